@@ -1,0 +1,60 @@
+# ddmr-hil: the two commands a user needs are `make run` and `make test`.
+# Each installs what is missing (Debian packages, as root), builds and runs.
+
+BUILD      ?= build
+BUILD_ASAN ?= build-asan
+BUILD_TYPE ?= RelWithDebInfo
+JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
+CASE       ?= 1
+OUT        ?= out/run-case$(CASE)
+
+.PHONY: all deps configure build build-asan run test test-asan bench clean help
+
+all: build
+
+help:
+	@echo "make run     install deps, build, run case $(CASE) (the thesis's 0.6 m circle) in the HIL -> $(OUT)/"
+	@echo "make test    install deps, build, run every test (ctest)"
+	@echo "make bench   install deps, build, run the benchmarks"
+	@echo "make deps    install the Debian packages the project needs (apt-get, as root)"
+	@echo "make clean   remove $(BUILD)/, $(BUILD_ASAN)/ and out/"
+
+deps:
+	@sh tools/install-deps.sh
+
+$(BUILD)/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE)
+
+configure: deps $(BUILD)/CMakeCache.txt
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+run: build
+	./$(BUILD)/ddmr-hil run --case $(CASE) --out $(OUT)
+	@echo "report: $(OUT)/summary.json, $(OUT)/uart.txt, $(OUT)/eeprom.bin"
+
+# Every test, then every test again under AddressSanitizer + UBSan +
+# LeakSanitizer in a separate build tree.
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	$(MAKE) test-asan
+
+$(BUILD_ASAN)/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD_ASAN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDMR_SANITIZE=ON \
+	    -DDDMR_BUILD_BENCH=OFF
+
+build-asan: deps $(BUILD_ASAN)/CMakeCache.txt
+	cmake --build $(BUILD_ASAN) -j $(JOBS)
+
+test-asan: build-asan
+	cd $(BUILD_ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 \
+	    UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	mkdir -p $(BUILD)/bench
+	./$(BUILD)/tests/bench/ddmr_plant_bench --benchmark_out=$(BUILD)/bench/plant.json \
+	    --benchmark_out_format=json
+
+clean:
+	rm -rf $(BUILD) $(BUILD_ASAN) out

@@ -1,0 +1,55 @@
+# add_arduino_sketch(<target> SKETCH <dir/name.ino> OUTPUT <path.elf> [FQBN <fqbn>])
+#
+# Builds an Arduino sketch exactly as the Arduino IDE does, with Debian's
+# arduino-builder and Arduino AVR core: the IDE's .ino preprocessing (ctags
+# prototypes), the core library, LTO. Writes <path.elf> and <path.hex>, and
+# prints the flash and RAM use arduino-builder reports.
+#
+# Debian's gcc-avr 5.4 does not define DECIMAL_DIG in C++ mode, which the
+# core's WString.cpp needs; it is defined as the compiler's own
+# __DECIMAL_DIG__ (9 on AVR, where double is 32-bit) through the platform's
+# compiler.cpp.extra_flags preference. Nothing else differs from the IDE.
+find_program(ARDUINO_BUILDER arduino-builder REQUIRED)
+find_program(AVR_SIZE avr-size REQUIRED)
+find_program(AVR_OBJCOPY avr-objcopy REQUIRED)
+set(DDMR_ARDUINO_HARDWARE_DIRS /usr/share/arduino-builder /usr/share/arduino/hardware)
+set(DDMR_ARDUINO_TOOLS_DIR /usr/share/arduino-builder)
+foreach(dir IN LISTS DDMR_ARDUINO_HARDWARE_DIRS)
+    if(NOT IS_DIRECTORY "${dir}")
+        message(FATAL_ERROR "Arduino hardware folder ${dir} is missing: run `make deps` "
+                            "(packages arduino-core-avr and arduino-builder)")
+    endif()
+endforeach()
+
+function(add_arduino_sketch target)
+    cmake_parse_arguments(ARG "" "SKETCH;OUTPUT;FQBN" "" ${ARGN})
+    if(NOT ARG_FQBN)
+        set(ARG_FQBN arduino:avr:uno)
+    endif()
+    get_filename_component(sketch_name "${ARG_SKETCH}" NAME_WE)
+    get_filename_component(out_dir "${ARG_OUTPUT}" DIRECTORY)
+    get_filename_component(out_we "${ARG_OUTPUT}" NAME_WE)
+    set(work_dir "${CMAKE_CURRENT_BINARY_DIR}/${target}.arduino")
+    set(hex "${out_dir}/${out_we}.hex")
+    set(hardware_args)
+    foreach(dir IN LISTS DDMR_ARDUINO_HARDWARE_DIRS)
+        list(APPEND hardware_args -hardware "${dir}")
+    endforeach()
+    add_custom_command(
+        OUTPUT "${ARG_OUTPUT}" "${hex}"
+        COMMAND ${CMAKE_COMMAND} -E rm -rf "${work_dir}"
+        COMMAND ${CMAKE_COMMAND} -E make_directory "${work_dir}" "${out_dir}"
+        COMMAND ${ARDUINO_BUILDER} -compile ${hardware_args}
+                -tools "${DDMR_ARDUINO_TOOLS_DIR}"
+                -fqbn ${ARG_FQBN}
+                -build-path "${work_dir}"
+                "-prefs=compiler.cpp.extra_flags=-DDECIMAL_DIG=__DECIMAL_DIG__"
+                "${ARG_SKETCH}"
+        COMMAND ${CMAKE_COMMAND} -E copy "${work_dir}/${sketch_name}.ino.elf" "${ARG_OUTPUT}"
+        COMMAND ${CMAKE_COMMAND} -E copy "${work_dir}/${sketch_name}.ino.hex" "${hex}"
+        COMMAND ${AVR_SIZE} --format=avr --mcu=atmega328p "${ARG_OUTPUT}"
+        DEPENDS "${ARG_SKETCH}"
+        COMMENT "Building Arduino sketch ${sketch_name} for ${ARG_FQBN} with arduino-builder"
+        VERBATIM)
+    add_custom_target(${target} ALL DEPENDS "${ARG_OUTPUT}" "${hex}")
+endfunction()

@@ -1,0 +1,64 @@
+#pragma once
+// Facts about the ATmega328P on the Arduino Uno that the HIL relies on.
+// One named definition each; every other file refers to these.
+// Addresses are AVR data-space addresses (I/O address + 0x20), as simavr uses.
+// Source: ATmega328P datasheet (DS40002061B), register summary and memory map.
+
+#include <cstdint>
+
+namespace ddmr::hil::atmega328p {
+
+inline constexpr const char* kMcuName = "atmega328p";
+inline constexpr uint32_t kClockHz = 16'000'000;  ///< Uno crystal [Hz]
+inline constexpr uint32_t kFlashBytes = 32 * 1024;
+inline constexpr uint32_t kSramBytes = 2 * 1024;
+inline constexpr uint16_t kRamEnd = 0x08FF;         ///< last SRAM address
+inline constexpr uint32_t kEepromBytes = 1024;
+inline constexpr uint8_t kEepromErased = 0xFF;      ///< value of an erased EEPROM byte
+inline constexpr int kVectorCount = 26;             ///< interrupt vectors incl. RESET
+inline constexpr int kVectorBytes = 4;              ///< each vector is a JMP (2 words)
+/// e_flags architecture of avr-gcc's -mmcu=atmega328p objects (EF_AVR_ARCH_AVR5).
+inline constexpr unsigned kElfArchAvr5 = 5;
+
+/// Interrupt vector numbers (datasheet table 12-6, 0 = RESET).
+namespace vector {
+inline constexpr int kInt0 = 1;
+inline constexpr int kInt1 = 2;
+inline constexpr int kTimer0Ovf = 16;
+inline constexpr int kUsartRx = 18;
+inline constexpr int kUsartUdre = 19;
+}  // namespace vector
+
+/// Data-space register addresses.
+namespace reg {
+inline constexpr uint16_t kPinB = 0x23;
+inline constexpr uint16_t kDdrB = 0x24;
+inline constexpr uint16_t kPortB = 0x25;
+inline constexpr uint16_t kPinD = 0x29;
+inline constexpr uint16_t kPortD = 0x2B;
+inline constexpr uint16_t kEecr = 0x3F;
+inline constexpr uint16_t kSpl = 0x5D;
+inline constexpr uint16_t kSph = 0x5E;
+inline constexpr uint16_t kSreg = 0x5F;
+inline constexpr uint16_t kTccr1A = 0x80;
+inline constexpr uint16_t kOcr1BL = 0x8A;
+inline constexpr uint16_t kOcr1BH = 0x8B;
+inline constexpr uint16_t kTccr2A = 0xB0;
+inline constexpr uint16_t kOcr2A = 0xB3;
+inline constexpr uint16_t kUcsr0A = 0xC0;
+inline constexpr uint16_t kUcsr0B = 0xC1;
+inline constexpr uint16_t kUcsr0C = 0xC2;
+inline constexpr uint16_t kUbrr0L = 0xC4;
+inline constexpr uint16_t kUbrr0H = 0xC5;
+}  // namespace reg
+
+/// Bits of UCSR0A / UCSR0B / UCSR0C used to time the UART.
+namespace uart_bit {
+inline constexpr int kU2x0 = 1;    ///< UCSR0A: double speed
+inline constexpr int kUcsz02 = 2;  ///< UCSR0B: 9-bit frames
+inline constexpr int kUcsz00 = 1;  ///< UCSR0C: character size, 2 bits
+inline constexpr int kUsbs0 = 3;   ///< UCSR0C: 2 stop bits
+inline constexpr int kUpm00 = 4;   ///< UCSR0C: parity mode, 2 bits (0 = none)
+}  // namespace uart_bit
+
+}  // namespace ddmr::hil::atmega328p

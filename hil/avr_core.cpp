@@ -1,0 +1,258 @@
+#include "hil/avr_core.hpp"
+
+#include <avr_extint.h>
+#include <avr_uart.h>
+#include <sim_avr.h>
+#include <sim_cycle_timers.h>
+#include <sim_elf.h>
+#include <sim_irq.h>
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+namespace ddmr::hil {
+namespace {
+
+/// simavr's default sleep callback usleep()s to keep pace with the wall clock;
+/// the HIL runs as fast as it can, so sleeping does nothing.
+void no_wall_clock_sleep(avr_t* /*avr*/, avr_cycle_count_t /*how_long*/) {}
+
+/// Frees what elf_read_firmware allocated (simavr 1.6 has no function for it).
+struct FirmwareBuffers {
+    elf_firmware_t fw{};
+    ~FirmwareBuffers() {
+        std::free(fw.flash);
+        std::free(fw.eeprom);
+        std::free(fw.fuse);
+        std::free(fw.lockbits);
+        for (uint32_t i = 0; i < fw.symbolcount; ++i) std::free(fw.symbol[i]);
+        std::free(fw.symbol);
+    }
+};
+
+struct TargetFlag {
+    bool reached = false;
+};
+
+avr_cycle_count_t on_target(avr_t* /*avr*/, avr_cycle_count_t /*when*/, void* param) {
+    static_cast<TargetFlag*>(param)->reached = true;
+    return 0;
+}
+
+avr_cycle_count_t on_stop_deadline(avr_t* /*avr*/, avr_cycle_count_t /*when*/, void* param) {
+    static_cast<AvrCore*>(param)->request_stop();
+    return 0;
+}
+
+}  // namespace
+
+const char* to_string(RunStop stop) {
+    switch (stop) {
+        case RunStop::kReachedCycle: return "reached_cycle";
+        case RunStop::kCondition: return "condition";
+        case RunStop::kCrashed: return "crashed";
+        case RunStop::kDone: return "sleeping_with_interrupts_off";
+    }
+    return "unknown";
+}
+
+void AvrCore::AvrDeleter::operator()(avr_t* avr) const {
+    avr_terminate(avr);
+    // simavr 1.6's avr_terminate frees the I/O modules' IRQs but leaves every
+    // other IRQ in the pool (vector and iomem IRQs: their names, notify hooks
+    // and avr_alloc_irq arrays), the pool's table and the avr_t itself.
+    // IRQs of one array sit in consecutive pool slots at consecutive
+    // addresses; avr_free_irq(base, n) frees such an array as simavr would.
+    avr_irq_pool_t& pool = avr->irq_pool;
+    int i = 0;
+    while (i < pool.count) {
+        avr_irq_t* base = pool.irq[i];
+        if (base == nullptr) {
+            ++i;
+            continue;
+        }
+        int n = 1;
+        while (i + n < pool.count && pool.irq[i + n] == base + n) ++n;
+        avr_free_irq(base, static_cast<uint32_t>(n));  // also clears the n pool slots
+        i += n;
+    }
+    std::free(pool.irq);
+    std::free(avr);
+}
+
+AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), config_(config) {
+    if (config_.clock_hz == 0) throw std::invalid_argument("AvrCore: clock_hz must be > 0");
+    if (config_.run_cycle_limit == 0) {
+        throw std::invalid_argument("AvrCore: run_cycle_limit must be >= 1");
+    }
+    install_simavr_logger();
+    const LoadingLogScope scope(&log_);
+
+    avr_.reset(avr_make_mcu_by_name(atmega328p::kMcuName));
+    if (!avr_) throw std::runtime_error("simavr has no ATmega328P core");
+    avr_t* avr = avr_.get();
+    avr->custom.data = &log_;  // routes this instance's log (see simavr_log.cpp)
+    if (avr_init(avr) != 0) throw std::runtime_error("simavr could not initialise the ATmega328P");
+
+    FirmwareBuffers buffers;
+    const std::string path = elf_.path().string();
+    if (elf_read_firmware(path.c_str(), &buffers.fw) != 0) {
+        throw std::runtime_error("firmware " + path + ": simavr's ELF loader could not read it");
+    }
+    buffers.fw.frequency = config_.clock_hz;
+    std::snprintf(buffers.fw.mmcu, sizeof buffers.fw.mmcu, "%s", atmega328p::kMcuName);
+    avr_load_firmware(avr, &buffers.fw);
+    avr->frequency = config_.clock_hz;
+    avr->log = SimavrLog::kLevelWarning;
+
+    uint32_t uart_flags = 0;  // no stdio echo, no poll-sleep
+    avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &uart_flags);
+    avr->sleep = &no_wall_clock_sleep;
+    avr_extint_set_strict_lvl_trig(avr, 0, 0);
+    avr_extint_set_strict_lvl_trig(avr, 1, 0);
+    avr->run_cycle_limit = config_.run_cycle_limit;
+}
+
+AvrCore::~AvrCore() = default;
+
+Cycles AvrCore::cycle() const { return avr_->cycle; }
+uint32_t AvrCore::pc() const { return avr_->pc; }
+uint16_t AvrCore::stack_pointer() const {
+    return static_cast<uint16_t>(avr_->data[atmega328p::reg::kSpl] |
+                                 (avr_->data[atmega328p::reg::kSph] << 8));
+}
+uint8_t AvrCore::data(uint16_t address) const {
+    if (address > avr_->ramend) {
+        throw std::out_of_range("AVR data address " + std::to_string(address) + " past RAMEND");
+    }
+    return avr_->data[address];
+}
+
+RunStop AvrCore::state_stop() const {
+    if (avr_->state == cpu_Crashed) return RunStop::kCrashed;
+    if (avr_->state == cpu_Done) return RunStop::kDone;
+    return RunStop::kReachedCycle;
+}
+
+RunStop AvrCore::run_until(Cycles target) {
+    avr_t* avr = avr_.get();
+    if (avr->cycle >= target) return state_stop();
+    if (stop_requested_) return RunStop::kCondition;
+    TargetFlag flag;
+    avr_cycle_timer_register(avr, target - avr->cycle, &on_target, &flag);
+    while (!flag.reached && !stop_requested_) {
+        const int state = avr_run(avr);
+        if (state == cpu_Crashed || state == cpu_Done) break;
+    }
+    avr_cycle_timer_cancel(avr, &on_target, &flag);
+    const RunStop stop = state_stop();
+    if (stop == RunStop::kReachedCycle && stop_requested_) return RunStop::kCondition;
+    return stop;
+}
+
+void AvrCore::stop_after(Cycles delay) {
+    avr_cycle_timer_register(avr_.get(), delay == 0 ? 1 : delay, &on_stop_deadline, this);
+}
+
+RunStop AvrCore::run_until(Cycles target, const std::function<bool()>& condition) {
+    avr_t* avr = avr_.get();
+    const Cycles saved_limit = avr->run_cycle_limit;
+    avr->run_cycle_limit = 1;  // one instruction per avr_run
+    avr->run_cycle_count = 1;
+    RunStop stop = RunStop::kReachedCycle;
+    while (avr->cycle < target) {
+        const int state = avr_run(avr);
+        if (state == cpu_Crashed || state == cpu_Done) {
+            stop = state_stop();
+            break;
+        }
+        if (condition()) {
+            stop = RunStop::kCondition;
+            break;
+        }
+    }
+    avr->run_cycle_limit = saved_limit;
+    return stop;
+}
+
+namespace {
+
+struct ReturnWatch {
+    AvrCore* core = nullptr;
+    uint32_t begin = 0;  ///< flash byte address of the function
+    uint32_t end = 0;    ///< one past its last byte
+    bool entered = false;
+    uint16_t sp_before_call = 0;  ///< SP the caller had before its CALL
+};
+
+/// True if the instruction just before flash byte address `ret_byte` is a
+/// CALL (4 bytes) or RCALL (2 bytes) to the function at `target_byte`.
+bool follows_call_to(const AvrCore& core, uint32_t ret_byte, uint32_t target_byte) {
+    if (ret_byte >= 4) {
+        const uint16_t w0 = core.flash_word(ret_byte - 4);
+        if ((w0 & 0xFE0E) == 0x940E) {  // CALL k: 1001 010k kkkk 111k, kkkk kkkk kkkk kkkk
+            const uint32_t k = ((static_cast<uint32_t>(w0 & 0x01F0) >> 3) |
+                                static_cast<uint32_t>(w0 & 0x0001)) << 16 |
+                               core.flash_word(ret_byte - 2);
+            if (k * 2 == target_byte) return true;
+        }
+    }
+    if (ret_byte >= 2) {
+        const uint16_t w = core.flash_word(ret_byte - 2);
+        if ((w & 0xF000) == 0xD000) {  // RCALL k: 1101 kkkk kkkk kkkk, k signed words
+            int32_t k = w & 0x0FFF;
+            if (k & 0x0800) k -= 0x1000;
+            if (static_cast<int64_t>(ret_byte) + 2 * k == target_byte) return true;
+        }
+    }
+    return false;
+}
+
+avr_cycle_count_t on_return_sample(avr_t* /*avr*/, avr_cycle_count_t when, void* param) {
+    auto* w = static_cast<ReturnWatch*>(param);
+    const AvrCore& core = *w->core;
+    const uint16_t sp = core.stack_pointer();
+    if (!w->entered) {
+        // In a timer callback simavr's PC is that of the last instruction run.
+        const uint32_t pc = core.pc();
+        if (pc < w->begin || pc >= w->end) return when + AvrCore::kReturnSamplePeriod;
+        // CALL pushed the return word address high byte at SP+1, low at SP+2
+        // (as seen after the push). Find the lowest such slot above SP.
+        for (uint32_t a = sp + 1U; a + 1 <= atmega328p::kRamEnd; ++a) {
+            const uint32_t ret_word = (static_cast<uint32_t>(core.data(static_cast<uint16_t>(a))) << 8) |
+                                      core.data(static_cast<uint16_t>(a + 1));
+            if (follows_call_to(core, ret_word * 2, w->begin)) {
+                w->entered = true;
+                w->sp_before_call = static_cast<uint16_t>(a + 1);
+                break;
+            }
+        }
+    } else if (sp >= w->sp_before_call) {
+        w->core->request_stop();
+        return 0;
+    }
+    return when + AvrCore::kReturnSamplePeriod;
+}
+
+}  // namespace
+
+uint16_t AvrCore::flash_word(uint32_t byte_address) const {
+    if (byte_address + 1 > avr_->flashend) return 0xFFFF;
+    return static_cast<uint16_t>(avr_->flash[byte_address] | (avr_->flash[byte_address + 1] << 8));
+}
+
+RunStop AvrCore::run_until_return_from(const ElfSymbol& function, Cycles target) {
+    if (!function.is_function || function.size == 0) {
+        throw std::invalid_argument("run_until_return_from: '" + function.name +
+                                    "' is not a function with a size in the ELF");
+    }
+    ReturnWatch watch{this, function.address, function.address + function.size, false, 0};
+    avr_cycle_timer_register(avr_.get(), kReturnSamplePeriod, &on_return_sample, &watch);
+    const RunStop stop = run_until(target);
+    avr_cycle_timer_cancel(avr_.get(), &on_return_sample, &watch);
+    stop_requested_ = false;
+    return stop;
+}
+
+}  // namespace ddmr::hil

@@ -1,0 +1,115 @@
+#pragma once
+// AvrCore: one simavr ATmega328P instance running one firmware ELF, owned
+// RAII-style (simavr 1.6's avr_terminate frees neither the avr_t nor the ELF
+// loader's buffers; this class frees all of them).
+//
+// Set-up applied at construction (see ../shared/SIMAVR_NOTES.md):
+//   - 16 MHz clock set before the firmware is loaded (avr_init leaves 1 MHz);
+//   - UART stdio and poll-sleep flags off; no wall-clock sleep callback;
+//   - INT0/INT1 strict level triggering off (its 1-cycle poll costs 4x speed);
+//   - simavr's log routed to this instance's SimavrLog;
+//   - instructions batched between cycle timers (run_cycle_limit).
+//
+// Signals: none of its own; parts (UartLink, EepromPort, ...) attach to raw().
+// Not thread-safe: call an instance only from the thread that uses it.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "hil/cycle_time.hpp"
+#include "hil/elf_image.hpp"
+#include "hil/simavr_log.hpp"
+
+struct avr_t;
+
+namespace ddmr::hil {
+
+struct AvrCoreConfig {
+    uint32_t clock_hz = atmega328p::kClockHz;  ///< [Hz] the Uno's crystal
+    /// Maximum cycles simavr executes between checks for timers and interrupts
+    /// when nothing is due sooner. Any value >= 1 gives identical results; a
+    /// large one is faster. simavr's own default is 1.
+    Cycles run_cycle_limit = 100'000;
+};
+
+/// Why a run_until call returned.
+enum class RunStop {
+    kReachedCycle,  ///< the target cycle was reached
+    kCondition,     ///< the caller's condition became true, or a stop was requested
+    kCrashed,       ///< simavr reported cpu_Crashed (PC past flash, bad data access)
+    kDone,          ///< the firmware slept with interrupts off: it can never wake
+};
+
+const char* to_string(RunStop stop);
+
+class AvrCore {
+public:
+    /// Loads `elf` (already validated with ElfImage::require_atmega328p()) into a
+    /// fresh ATmega328P. Throws std::runtime_error if simavr cannot load it.
+    explicit AvrCore(const ElfImage& elf, const AvrCoreConfig& config = {});
+    ~AvrCore();
+    AvrCore(const AvrCore&) = delete;
+    AvrCore& operator=(const AvrCore&) = delete;
+
+    /// The simavr instance, for parts to attach their IRQs and timers to.
+    avr_t* raw() { return avr_.get(); }
+    const ElfImage& elf() const { return elf_; }
+    Cycles cycle() const;
+    uint32_t clock_hz() const { return config_.clock_hz; }
+    double seconds() const { return cycles_to_s(cycle(), config_.clock_hz); }
+    /// Program counter as a flash byte address.
+    uint32_t pc() const;
+    uint16_t stack_pointer() const;
+    /// A byte of data space (registers, I/O, SRAM), as the firmware would read it
+    /// without side effects.
+    uint8_t data(uint16_t address) const;
+    SimavrLog& log() { return log_; }
+
+    /// Runs until the AVR clock reaches `target` (within one instruction), or a
+    /// part calls request_stop() / a stop_after() deadline passes (kCondition).
+    RunStop run_until(Cycles target);
+
+    /// Asks the running run_until to return after the current instruction
+    /// batch. Safe to call from IRQ and cycle-timer callbacks.
+    void request_stop() { stop_requested_ = true; }
+    /// Requests a stop exactly `delay` cycles from now (a cycle timer).
+    void stop_after(Cycles delay);
+    bool stop_requested() const { return stop_requested_; }
+
+    /// Runs one instruction at a time until `condition()` is true after an
+    /// instruction, or `target` is reached. Slower than run_until(target):
+    /// use it for short phases that must stop on a PC or register change.
+    RunStop run_until(Cycles target, const std::function<bool()>& condition);
+
+    /// Runs until the firmware has returned from its first call to `function`,
+    /// or `target`. Returns kCondition on return.
+    ///
+    /// Detection samples the CPU every kReturnSamplePeriod cycles, so the run
+    /// batches instructions at full speed. The first sample whose PC lies in
+    /// `function` finds the call's return address on the stack (the lowest
+    /// stacked word that points just after a CALL/RCALL to `function`); the
+    /// return is seen at the first later sample whose SP is back above that
+    /// slot. `function` must run for at least a few sample periods (delay()
+    /// does); the stop comes within a sample period of the RET, or later if
+    /// the caller is then inside a callee.
+    RunStop run_until_return_from(const ElfSymbol& function, Cycles target);
+    static constexpr Cycles kReturnSamplePeriod = 256;
+
+    /// A 16-bit word of flash at a byte address (little-endian, as fetched).
+    uint16_t flash_word(uint32_t byte_address) const;
+
+private:
+    struct AvrDeleter {
+        void operator()(avr_t* avr) const;
+    };
+    RunStop state_stop() const;
+
+    ElfImage elf_;
+    AvrCoreConfig config_;
+    SimavrLog log_;
+    std::unique_ptr<avr_t, AvrDeleter> avr_;
+    bool stop_requested_ = false;
+};
+
+}  // namespace ddmr::hil

@@ -1,0 +1,210 @@
+#include "hil/elf_image.hpp"
+
+#include <fcntl.h>
+#include <gelf.h>
+#include <libelf.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+
+#include "hil/atmega328p.hpp"
+
+namespace ddmr::hil {
+namespace {
+
+/// avr-gcc places data-space objects at 0x800000 in the ELF address space.
+constexpr uint32_t kAvrDataOffset = 0x800000;
+/// EF_AVR_MACH: the architecture field of an AVR ELF's e_flags.
+constexpr uint32_t kEfAvrMachMask = 0x7F;
+/// simavr's .mmcu tag holding the MCU name (AVR_MMCU_TAG_NAME in avr_mcu_section.h).
+constexpr uint8_t kMmcuTagName = 1;
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& what) {
+    throw std::runtime_error("firmware " + path.string() + ": " + what);
+}
+
+struct FdCloser {
+    int fd;
+    ~FdCloser() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+struct ElfDeleter {
+    void operator()(Elf* e) const { elf_end(e); }
+};
+
+/// True when the 4 bytes at `p` are a JMP instruction (1001 010k kkkk 110k).
+bool is_jmp(const uint8_t* p) {
+    const uint16_t word = static_cast<uint16_t>(p[0] | (p[1] << 8));
+    return (word & 0xFE0E) == 0x940C;
+}
+
+std::optional<std::string> parse_mmcu_name(const uint8_t* data, std::size_t size) {
+    std::size_t i = 0;
+    while (i + 2 <= size) {
+        const uint8_t tag = data[i];
+        const uint8_t len = data[i + 1];
+        if (len < 2 || i + len > size) break;
+        if (tag == kMmcuTagName) {
+            const char* s = reinterpret_cast<const char*>(data + i + 2);
+            return std::string(s, strnlen(s, static_cast<std::size_t>(len - 2)));
+        }
+        i += len;
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+ElfImage ElfImage::read(const std::filesystem::path& path) {
+    ElfImage img;
+    img.path_ = path;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+    if (std::filesystem::is_directory(path, ec)) fail(path, "is a folder, not an ELF file");
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) fail(path, std::string("cannot open: ") + std::strerror(errno));
+    const FdCloser closer{fd};
+    if (std::filesystem::file_size(path, ec) == 0) fail(path, "empty file, not an ELF");
+
+    if (elf_version(EV_CURRENT) == EV_NONE) fail(path, "libelf initialisation failed");
+    std::unique_ptr<Elf, ElfDeleter> elf(elf_begin(fd, ELF_C_READ, nullptr));
+    if (!elf || elf_kind(elf.get()) != ELF_K_ELF) {
+        fail(path, "not an ELF file (wrong magic bytes); give the .elf the build wrote");
+    }
+    GElf_Ehdr ehdr;
+    if (gelf_getehdr(elf.get(), &ehdr) == nullptr) {
+        fail(path, std::string("corrupt ELF header: ") + elf_errmsg(-1));
+    }
+    img.machine_ = ehdr.e_machine;
+    img.flags_ = static_cast<uint32_t>(ehdr.e_flags);
+
+    std::size_t shstrndx = 0;
+    if (elf_getshdrstrndx(elf.get(), &shstrndx) != 0) {
+        fail(path, std::string("corrupt section table: ") + elf_errmsg(-1));
+    }
+    Elf_Scn* scn = nullptr;
+    while ((scn = elf_nextscn(elf.get(), scn)) != nullptr) {
+        GElf_Shdr shdr;
+        if (gelf_getshdr(scn, &shdr) == nullptr) {
+            fail(path, std::string("corrupt section header: ") + elf_errmsg(-1));
+        }
+        const char* name = elf_strptr(elf.get(), shstrndx, shdr.sh_name);
+        if (name == nullptr) fail(path, "corrupt section name table");
+        const std::string sname(name);
+        if (sname == ".text") {
+            img.memory_.text_bytes = static_cast<uint32_t>(shdr.sh_size);
+            Elf_Data* d = elf_getdata(scn, nullptr);
+            if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
+            const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
+            const std::size_t n = std::min<std::size_t>(
+                d->d_size, (atmega328p::kVectorCount + 1) * atmega328p::kVectorBytes);
+            img.vector_table_.assign(bytes, bytes + n);
+        } else if (sname == ".data") {
+            img.memory_.data_bytes = static_cast<uint32_t>(shdr.sh_size);
+        } else if (sname == ".bss") {
+            img.memory_.bss_bytes = static_cast<uint32_t>(shdr.sh_size);
+        } else if (sname == ".mmcu") {
+            Elf_Data* d = elf_getdata(scn, nullptr);
+            if (d != nullptr && d->d_buf != nullptr) {
+                img.mmcu_ = parse_mmcu_name(static_cast<const uint8_t*>(d->d_buf), d->d_size);
+            }
+        } else if (shdr.sh_type == SHT_SYMTAB) {
+            Elf_Data* d = elf_getdata(scn, nullptr);
+            if (d == nullptr || shdr.sh_entsize == 0) fail(path, "corrupt symbol table");
+            const std::size_t count = shdr.sh_size / shdr.sh_entsize;
+            for (std::size_t i = 0; i < count; ++i) {
+                GElf_Sym sym;
+                if (gelf_getsym(d, static_cast<int>(i), &sym) == nullptr) {
+                    fail(path, "corrupt symbol table entry");
+                }
+                const char* sn = elf_strptr(elf.get(), shdr.sh_link, sym.st_name);
+                if (sn == nullptr || *sn == '\0') continue;
+                const int type = GELF_ST_TYPE(sym.st_info);
+                ElfSymbol s;
+                s.name = sn;
+                s.size = static_cast<uint32_t>(sym.st_size);
+                s.is_function = type == STT_FUNC;
+                s.is_object = type == STT_OBJECT;
+                auto addr = static_cast<uint32_t>(sym.st_value);
+                if (addr >= kAvrDataOffset && addr < kAvrDataOffset + 0x10000) addr -= kAvrDataOffset;
+                s.address = addr;
+                img.symbols_.push_back(std::move(s));
+            }
+        }
+    }
+    std::sort(img.symbols_.begin(), img.symbols_.end(),
+              [](const ElfSymbol& a, const ElfSymbol& b) {
+                  return a.address != b.address ? a.address < b.address : a.name < b.name;
+              });
+    return img;
+}
+
+void ElfImage::require_atmega328p() const {
+    if (machine_ != EM_AVR) {
+        fail(path_, "built for ELF machine " + std::to_string(machine_) +
+                        ", not AVR (83): this is not an AVR firmware");
+    }
+    const uint32_t arch = flags_ & kEfAvrMachMask;
+    if (arch != atmega328p::kElfArchAvr5) {
+        fail(path_, "built for AVR architecture avr" + std::to_string(arch) +
+                        ", but the ATmega328P is avr5: rebuild with -mmcu=atmega328p");
+    }
+    if (mmcu_ && *mmcu_ != atmega328p::kMcuName) {
+        fail(path_, "its .mmcu section names MCU '" + *mmcu_ + "', not atmega328p");
+    }
+    if (memory_.flash_bytes() == 0) fail(path_, "has no .text section: nothing to load");
+    if (memory_.flash_bytes() > atmega328p::kFlashBytes) {
+        fail(path_, "program of " + std::to_string(memory_.flash_bytes()) +
+                        " bytes does not fit the ATmega328P's " +
+                        std::to_string(atmega328p::kFlashBytes) + "-byte flash");
+    }
+    if (memory_.ram_bytes() > atmega328p::kSramBytes) {
+        fail(path_, "globals of " + std::to_string(memory_.ram_bytes()) +
+                        " bytes do not fit the ATmega328P's " +
+                        std::to_string(atmega328p::kSramBytes) + "-byte SRAM");
+    }
+    // The ATmega328P has 26 vectors of one JMP each. An avr5 part with a larger
+    // table (ATmega16x4, ATmega32U4, ...) has a JMP in slot 26 as well.
+    const std::size_t table = atmega328p::kVectorCount * atmega328p::kVectorBytes;
+    if (vector_table_.size() < table) fail(path_, "too short for an ATmega328P vector table");
+    for (std::size_t v = 0; v < atmega328p::kVectorCount; ++v) {
+        if (!is_jmp(&vector_table_[v * atmega328p::kVectorBytes])) {
+            fail(path_, "interrupt vector " + std::to_string(v) +
+                            " is not a JMP: not an ATmega328P vector table");
+        }
+    }
+    if (vector_table_.size() >= table + atmega328p::kVectorBytes && is_jmp(&vector_table_[table])) {
+        fail(path_, "has more than 26 interrupt vectors: built for another avr5 MCU, "
+                    "not the ATmega328P");
+    }
+}
+
+std::optional<ElfSymbol> ElfImage::find(const std::string& name) const {
+    for (const auto& s : symbols_) {
+        if (s.name == name) return s;
+    }
+    return std::nullopt;
+}
+
+ElfSymbol ElfImage::require(const std::string& name) const {
+    auto s = find(name);
+    if (!s) fail(path_, "has no symbol '" + name + "'");
+    return *s;
+}
+
+std::optional<ElfSymbol> ElfImage::function_at(uint32_t flash_address) const {
+    for (const auto& s : symbols_) {
+        if (s.is_function && flash_address >= s.address && flash_address < s.address + s.size) {
+            return s;
+        }
+    }
+    return std::nullopt;
+}
+
+}  // namespace ddmr::hil

@@ -1,0 +1,71 @@
+#pragma once
+// An AVR firmware ELF file as the HIL needs it, read with libelf: its machine
+// and architecture (to refuse firmware built for another chip), its section
+// sizes (flash and RAM use), and its symbol table (addresses and sizes of
+// functions and globals, to watch the firmware without changing it).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ddmr::hil {
+
+/// One entry of the ELF symbol table.
+struct ElfSymbol {
+    std::string name;       ///< raw (mangled) name
+    uint32_t address = 0;   ///< flash byte address for functions; data-space address for
+                            ///< objects (the 0x800000 offset of avr-gcc is removed)
+    uint32_t size = 0;      ///< bytes
+    bool is_function = false;
+    bool is_object = false;
+};
+
+/// Flash and RAM use, as avr-size reports them.
+struct ElfMemoryUse {
+    uint32_t text_bytes = 0;  ///< .text (code, vectors, progmem)
+    uint32_t data_bytes = 0;  ///< .data (initialised globals, stored in flash too)
+    uint32_t bss_bytes = 0;   ///< .bss (zeroed globals)
+    uint32_t flash_bytes() const { return text_bytes + data_bytes; }
+    uint32_t ram_bytes() const { return data_bytes + bss_bytes; }
+};
+
+class ElfImage {
+public:
+    /// Reads `path`. Throws std::runtime_error naming the file and the problem when
+    /// it is missing, unreadable, empty or not a well-formed 32-bit ELF.
+    static ElfImage read(const std::filesystem::path& path);
+
+    /// Throws std::runtime_error naming the file and the mismatch unless this ELF
+    /// was built for the ATmega328P: EM_AVR machine, avr5 architecture, an
+    /// optional simavr .mmcu section naming atmega328p, a 26-entry JMP vector
+    /// table, and a program that fits the 32 KiB flash.
+    void require_atmega328p() const;
+
+    const std::filesystem::path& path() const { return path_; }
+    uint16_t machine() const { return machine_; }
+    uint32_t flags() const { return flags_; }
+    const ElfMemoryUse& memory_use() const { return memory_; }
+    const std::vector<ElfSymbol>& symbols() const { return symbols_; }
+    /// MCU name from simavr's .mmcu section, when the firmware has one.
+    const std::optional<std::string>& mmcu() const { return mmcu_; }
+
+    /// The symbol with this exact (mangled) name, if any.
+    std::optional<ElfSymbol> find(const std::string& name) const;
+    /// Like find(), but throws std::runtime_error naming the symbol and the file.
+    ElfSymbol require(const std::string& name) const;
+    /// The function whose [address, address + size) contains the flash byte address.
+    std::optional<ElfSymbol> function_at(uint32_t flash_address) const;
+
+private:
+    std::filesystem::path path_;
+    uint16_t machine_ = 0;
+    uint32_t flags_ = 0;
+    ElfMemoryUse memory_;
+    std::vector<ElfSymbol> symbols_;
+    std::optional<std::string> mmcu_;
+    std::vector<uint8_t> vector_table_;  ///< first bytes of .text
+};
+
+}  // namespace ddmr::hil

@@ -1,0 +1,86 @@
+#pragma once
+// UartLink: the host end of the firmware's USART0, like a USB-serial adapter.
+//
+// Signals (simavr UART IRQs of USART '0'):
+//   in  UART_IRQ_OUTPUT    each byte the firmware writes to UDR0, captured with
+//                          the cycle of the write (the start of its frame);
+//   in  UART_IRQ_OUT_XON   the receive FIFO has room: queued bytes are sent;
+//   in  UART_IRQ_OUT_XOFF  the receive FIFO is full (63 bytes): sending pauses;
+//   out UART_IRQ_INPUT     a byte delivered to the firmware's receiver.
+// Bytes sent while the receiver is off (before Serial.begin) wait in the queue
+// until simavr signals XON, so nothing is silently dropped.
+//
+// Frame timing: simavr 1.6 counts a parity bit in every frame (11 bit times
+// for 8N1: 18,304 cycles per byte at the Uno's 9600 baud setting, UBRR0 = 207
+// with U2X0). With UartTiming::kChip (the default) the link recomputes the
+// frame time from UBRR0, U2X0, UCSZ0, UPM0 and USBS0 as the datasheet does
+// (8N1: 10 bit times = 16,640 cycles) whenever the firmware writes them.
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hil/avr_core.hpp"
+
+struct avr_irq_t;
+struct avr_uart_t;
+
+namespace ddmr::hil {
+
+struct UartByte {
+    Cycles cycle = 0;   ///< AVR cycle at which the firmware wrote UDR0
+    uint8_t value = 0;
+};
+
+enum class UartTiming {
+    kChip,    ///< frame time as on the ATmega328P (datasheet section 19)
+    kSimavr,  ///< simavr 1.6's own frame time (one extra parity bit)
+};
+
+class UartLink {
+public:
+    explicit UartLink(AvrCore& core, UartTiming timing = UartTiming::kChip);
+    UartLink(const UartLink&) = delete;
+    UartLink& operator=(const UartLink&) = delete;
+
+    /// Queues bytes for the firmware's receiver; they are delivered as soon as
+    /// (and while) simavr signals XON.
+    void send(std::string_view bytes);
+    /// Bytes queued by send() and not yet delivered.
+    std::size_t pending() const { return queue_.size(); }
+
+    /// Every byte the firmware transmitted so far, in order.
+    const std::vector<UartByte>& received() const { return received_; }
+    /// The same bytes as text (verbatim, including \r\n).
+    std::string text() const;
+
+    /// Called for every byte the firmware transmits, as it is written to UDR0
+    /// (inside the simulation: keep it short, do not throw).
+    void set_listener(std::function<void(const UartByte&)> listener) { listener_ = std::move(listener); }
+
+    /// The frame time simavr is currently using [cycles per byte].
+    Cycles cycles_per_byte() const;
+
+private:
+    static void on_output(avr_irq_t* irq, uint32_t value, void* param);
+    static void on_xon(avr_irq_t* irq, uint32_t value, void* param);
+    static void on_xoff(avr_irq_t* irq, uint32_t value, void* param);
+    static void on_frame_register(avr_irq_t* irq, uint32_t value, void* param);
+    void pump();
+    void apply_chip_timing();
+
+    AvrCore& core_;
+    avr_uart_t* uart_ = nullptr;
+    avr_irq_t* input_irq_ = nullptr;
+    bool xon_ = false;
+    bool xoff_ = false;
+    bool pumping_ = false;
+    std::deque<uint8_t> queue_;
+    std::vector<UartByte> received_;
+    std::function<void(const UartByte&)> listener_;
+};
+
+}  // namespace ddmr::hil

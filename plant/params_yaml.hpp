@@ -1,0 +1,38 @@
+#pragma once
+// RobotParams <-> YAML (yaml-cpp). The file has one mapping per part
+// (motor1, motor2, driver, battery, encoder1, encoder2, kinematics,
+// integration), each with the keys of that part's field table. Keys left out
+// keep their embedded default, so a file may override a few values only.
+//
+// Rejected, with one line naming the file, line:column, key and value:
+// a missing or unreadable file, malformed YAML, an unknown section or key,
+// a value of the wrong type, NaN/inf, a value outside its range.
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "plant/robot_params.hpp"
+
+namespace ddmr::plant {
+
+/// Error in a parameter file; what() is a single line.
+class ParamsFileError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Reads and validates a parameter file over the embedded defaults.
+RobotParams load_robot_params(const std::filesystem::path& path);
+
+/// Same, from text; `source` names it in messages.
+RobotParams parse_robot_params(std::string_view yaml_text, const std::string& source);
+
+/// Every parameter as YAML, doubles with 17 significant digits (exact round trip).
+std::string emit_robot_params(const RobotParams& p);
+
+/// Writes emit_robot_params(p) to `path`; throws ParamsFileError on failure.
+void save_robot_params(const RobotParams& p, const std::filesystem::path& path);
+
+}  // namespace ddmr::plant

@@ -1,0 +1,179 @@
+#include "plant/robot.hpp"
+
+#include <cmath>
+
+namespace ddmr::plant {
+
+namespace {
+bool finite(const RobotState& s) {
+    bool ok = std::isfinite(s.t_s) && std::isfinite(s.battery.charge_drawn_C) &&
+              std::isfinite(s.pose.x_m) && std::isfinite(s.pose.y_m) &&
+              std::isfinite(s.pose.theta_rad);
+    for (const DcMotorState& m : s.motor) {
+        ok = ok && std::isfinite(m.current_A) && std::isfinite(m.speed_rad_s) &&
+             std::isfinite(m.angle_rad);
+    }
+    return ok;
+}
+}  // namespace
+
+const char* to_string(StepStatus s) {
+    switch (s) {
+        case StepStatus::ok: return "ok";
+        case StepStatus::bad_input: return "bad_input";
+        case StepStatus::diverged: return "diverged";
+        case StepStatus::edge_overflow: return "edge_overflow";
+    }
+    return "unknown";
+}
+
+RobotParams Robot::validated(const RobotParams& p) {
+    validate(p);
+    return p;
+}
+
+Robot::Robot(const RobotParams& params)
+    : params_(validated(params)),
+      stepper_{MotorStepper(params_.motor[0]), MotorStepper(params_.motor[1])},
+      encoder_{HallEncoder(params_.encoder[0], 0), HallEncoder(params_.encoder[1], 1)} {
+    reset();
+}
+
+void Robot::reset(const Pose& pose) {
+    state_ = RobotState{};
+    state_.pose = pose;
+    for (std::size_t m = 0; m < kMotorCount; ++m) encoder_[m].reset(0.0);
+    status_ = StepStatus::ok;
+    diverged_at_s_ = 0.0;
+}
+
+BodyVelocity Robot::body_velocity() const {
+    return plant::body_velocity(params_.kinematics, wheel_speed_rad_s(0), wheel_speed_rad_s(1));
+}
+
+double Robot::wheel_speed_rad_s(std::size_t m) const {
+    return plant::wheel_speed_rad_s(params_.motor[m], state_.motor[m].speed_rad_s);
+}
+
+double Robot::supply_current_A(std::size_t m) const {
+    const BridgeInput& b = input_.bridge[m];
+    const double i = state_.motor[m].current_A;
+    const double sign = b.forward ? 1.0 : -1.0;
+    if (input_.mode == DriveMode::averaged) return sign * b.duty * i;
+    if (b.enable) return sign * i;
+    return -std::abs(i);  // bridge off: the current returns through the diodes
+}
+
+double Robot::supply_current_A() const { return supply_current_A(0) + supply_current_A(1); }
+
+double Robot::battery_voltage_V() const {
+    return terminal_voltage_V(params_.battery, state_.battery, supply_current_A());
+}
+
+bool Robot::input_valid() const {
+    for (const BridgeInput& b : input_.bridge) {
+        if (!(b.duty >= 0.0 && b.duty <= 1.0)) return false;  // also rejects NaN
+    }
+    return true;
+}
+
+bool Robot::substep(double h, EdgeBuffer& edges) {
+    const RobotState before = state_;
+    // The battery, eq. (19), couples both motors: V_b = V_0 - k AH - R_b (I_s1 + I_s2).
+    // Each motor's own share of the R_b drop is solved exactly with it (as a
+    // series resistance, l298_driver.hpp); the other motor's supply current
+    // and the charge term are held over the step at their midpoint values
+    // by a predictor-corrector:
+    //   predict: hold them at the start of the step -> mean supply currents;
+    //   correct: V_0 - k (q + dq/2)/3600 and the mean currents, solve again.
+    // Holding start values alone is first order in h; this is second order.
+    // When the corrected voltages differ from the predicted ones by less than
+    // kAcceptV (steady running), the prediction is kept: one solve, not two.
+    constexpr double kAcceptV = 1e-9;
+    const BatteryParams& bp = params_.battery;
+    const double rb = bp.internal_resistance_ohm;
+    std::array<double, kMotorCount> other_supply_A{supply_current_A(1), supply_current_A(0)};
+    double source_V = source_voltage_V(bp, before.battery);
+    for (int pass = 0; pass < 2; ++pass) {
+        double supply_charge_C = 0.0;
+        std::array<double, kMotorCount> mean_supply_A{};
+        for (std::size_t m = 0; m < kMotorCount; ++m) {
+            const MotorTerminal u = terminal(params_.driver, input_.mode, input_.bridge[m],
+                                             source_V - rb * other_supply_A[m], rb);
+            DcMotorState x = before.motor[m];
+            stepper_[m].advance(x, u, h, scratch_[m]);
+            supply_charge_C += scratch_[m].supply_charge_C;
+            mean_supply_A[m] = scratch_[m].supply_charge_C / h;
+            state_.motor[m] = x;
+        }
+        state_.battery.charge_drawn_C = before.battery.charge_drawn_C + supply_charge_C;  // eq. (18)
+        if (pass == 1) break;
+        BatteryState mid = before.battery;
+        mid.charge_drawn_C += 0.5 * supply_charge_C;
+        const double mid_source_V = source_voltage_V(bp, mid);
+        const std::array<double, kMotorCount> mid_other_A{mean_supply_A[1], mean_supply_A[0]};
+        double change_V = std::abs(mid_source_V - source_V);
+        for (std::size_t m = 0; m < kMotorCount; ++m) {
+            change_V = std::max(change_V, rb * std::abs(mid_other_A[m] - other_supply_A[m]));
+        }
+        if (!(change_V > kAcceptV)) break;  // also stops on NaN (caught below)
+        source_V = mid_source_V;
+        other_supply_A = mid_other_A;
+    }
+    std::array<double, kMotorCount> wheel_turn_rad{};
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        if (!std::isfinite(state_.motor[m].angle_rad)) continue;  // caught below
+        const MotorStepResult& r = scratch_[m];
+        for (std::size_t k = 0; k < r.segment_count; ++k) {
+            encoder_[m].process(stepper_[m], r.segments[k], before.t_s, before.t_s + h, edges);
+        }
+        wheel_turn_rad[m] =
+            (state_.motor[m].angle_rad - before.motor[m].angle_rad) / params_.motor[m].gear_ratio;
+    }
+    advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1]);
+    state_.t_s += h;
+    if (!finite(state_)) {
+        diverged_at_s_ = before.t_s;
+        state_ = before;
+        status_ = StepStatus::diverged;
+        return false;
+    }
+    return true;
+}
+
+StepResult Robot::step(double dt_s, EdgeBuffer& edges) {
+    if (status_ == StepStatus::diverged) return {StepStatus::diverged, state_.t_s};
+    if (!(dt_s > 0.0 && dt_s <= 10.0) || !input_valid()) {
+        return {StepStatus::bad_input, state_.t_s};
+    }
+    const std::size_t first = edges.size();
+    const std::uint64_t dropped_before = edges.dropped();
+    const double t_end = state_.t_s + dt_s;
+    const double max_h = params_.stepper.max_step_s;
+    // Equal internal steps; a dt within the limit is used as given, so the
+    // motor discretisation cache hits when the caller repeats a dt.
+    const double n = dt_s <= max_h ? 1.0 : std::ceil(dt_s / max_h);
+    const double h = dt_s / n;
+    const auto count = static_cast<long>(n);
+    for (long k = 0; k < count; ++k) {
+        if (!substep(h, edges)) return {StepStatus::diverged, state_.t_s};
+    }
+    state_.t_s = t_end;
+    // Merge the two channels' edges of this step by time (insertion sort: a
+    // handful of edges, already sorted per channel; no allocation).
+    EncoderEdge* e = edges.data();
+    for (std::size_t i = first + 1; i < edges.size(); ++i) {
+        const EncoderEdge key = e[i];
+        std::size_t j = i;
+        while (j > first && e[j - 1].t_s > key.t_s) {
+            e[j] = e[j - 1];
+            --j;
+        }
+        e[j] = key;
+    }
+    const StepStatus s =
+        edges.dropped() != dropped_before ? StepStatus::edge_overflow : StepStatus::ok;
+    return {s, state_.t_s};
+}
+
+}  // namespace ddmr::plant

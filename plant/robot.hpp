@@ -1,0 +1,119 @@
+#pragma once
+// The robot plant: two DC gear motors on an L298 shield, the battery, two
+// Hall encoders and the differential-drive kinematics, composed.
+//
+//   RobotInput (mode, per bridge: enable pin, duty, direction pin)
+//     -> L298 (battery voltage)      => MotorTerminal x2          (l298_driver.hpp)
+//     -> MotorStepper x2 (exact)     => I, w, shaft angle, charge  (motor_stepper.hpp)
+//     -> HallEncoder x2              => EncoderEdge (exact times)  (hall_encoder.hpp)
+//     -> Battery                     => charge drawn, V_batt       (battery.hpp)
+//     -> kinematics, exact arc       => pose x, y, theta           (diff_drive_kinematics.hpp)
+//
+// Index 0 = motor 1 = RIGHT wheel = encoder on pin 2; index 1 = motor 2 = LEFT.
+//
+// step(dt) holds the input constant over dt, splits it into equal internal
+// steps of at most params.stepper.max_step_s, and within each internal step
+// holds the battery voltage (evaluated at its start, eq. 19) and solves the
+// motors exactly. It never allocates and never throws: problems come back as
+// a StepStatus; a non-finite state stops the run (status diverged, sticky).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "plant/battery.hpp"
+#include "plant/dc_motor.hpp"
+#include "plant/diff_drive_kinematics.hpp"
+#include "plant/encoder_edge.hpp"
+#include "plant/hall_encoder.hpp"
+#include "plant/l298_driver.hpp"
+#include "plant/motor_stepper.hpp"
+#include "plant/robot_params.hpp"
+
+namespace ddmr::plant {
+
+inline constexpr std::size_t kMotorCount = 2;
+
+struct RobotInput {
+    DriveMode mode = DriveMode::averaged;
+    std::array<BridgeInput, kMotorCount> bridge{};  ///< [0]: motor 1 (right), [1]: motor 2 (left)
+};
+
+/// Everything the stepper advances.
+struct RobotState {
+    double t_s = 0.0;                                   ///< plant time [s]
+    std::array<DcMotorState, kMotorCount> motor{};
+    BatteryState battery{};
+    Pose pose{};
+};
+
+enum class StepStatus {
+    ok,
+    bad_input,      ///< dt not in (0, 10] s, or a duty not in [0, 1] / NaN: nothing advanced
+    diverged,       ///< a state became non-finite; the run is stopped (see diverged_at_s)
+    edge_overflow,  ///< the EdgeBuffer filled up; EdgeBuffer::dropped() edges were lost
+};
+
+const char* to_string(StepStatus s);
+
+struct StepResult {
+    StepStatus status = StepStatus::ok;
+    double t_s = 0.0;  ///< plant time after the step (or where it stopped)
+};
+
+class Robot {
+  public:
+    /// Validates `params`; throws std::invalid_argument naming the parameter.
+    explicit Robot(const RobotParams& params = default_robot_params());
+
+    /// Time 0, motors at rest, battery full, counters 0, at `pose`.
+    void reset(const Pose& pose = {});
+
+    void set_input(const RobotInput& input) { input_ = input; }
+    [[nodiscard]] const RobotInput& input() const { return input_; }
+
+    /// Advances by dt_s with the current input held; appends the encoder
+    /// edges of the step to `edges`, sorted by time.
+    StepResult step(double dt_s, EdgeBuffer& edges);
+
+    // --- outputs ---------------------------------------------------------
+    [[nodiscard]] double time_s() const { return state_.t_s; }
+    [[nodiscard]] const Pose& pose() const { return state_.pose; }
+    [[nodiscard]] BodyVelocity body_velocity() const;
+    [[nodiscard]] double motor_current_A(std::size_t m) const { return state_.motor[m].current_A; }
+    [[nodiscard]] double motor_speed_rad_s(std::size_t m) const { return state_.motor[m].speed_rad_s; }
+    [[nodiscard]] double motor_angle_rad(std::size_t m) const { return state_.motor[m].angle_rad; }
+    [[nodiscard]] double wheel_speed_rad_s(std::size_t m) const;
+    /// Battery current of both bridges now [A] (eq. 19's I_1 + I_2).
+    [[nodiscard]] double supply_current_A() const;
+    /// Battery terminal voltage now, eq. (19) [V].
+    [[nodiscard]] double battery_voltage_V() const;
+    [[nodiscard]] double charge_drawn_C() const { return state_.battery.charge_drawn_C; }
+    [[nodiscard]] std::uint64_t edge_count(std::size_t m) const { return encoder_[m].edge_count(); }
+    [[nodiscard]] bool encoder_level(std::size_t m) const { return encoder_[m].level(); }
+
+    [[nodiscard]] StepStatus status() const { return status_; }
+    [[nodiscard]] double diverged_at_s() const { return diverged_at_s_; }
+    [[nodiscard]] const RobotState& state() const { return state_; }
+    /// Overwrites the state (snapshots, tests). Does not move the encoders.
+    void set_state(const RobotState& s) { state_ = s; }
+    [[nodiscard]] const RobotParams& params() const { return params_; }
+    [[nodiscard]] const MotorStepper& motor_stepper(std::size_t m) const { return stepper_[m]; }
+
+  private:
+    static RobotParams validated(const RobotParams& p);
+    [[nodiscard]] bool input_valid() const;
+    [[nodiscard]] double supply_current_A(std::size_t m) const;
+    bool substep(double h, EdgeBuffer& edges);
+
+    RobotParams params_;
+    std::array<MotorStepper, kMotorCount> stepper_;
+    std::array<HallEncoder, kMotorCount> encoder_;
+    RobotInput input_{};
+    RobotState state_{};
+    StepStatus status_ = StepStatus::ok;
+    double diverged_at_s_ = 0.0;
+    std::array<MotorStepResult, kMotorCount> scratch_{};
+};
+
+}  // namespace ddmr::plant

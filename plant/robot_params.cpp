@@ -1,0 +1,54 @@
+#include "plant/robot_params.hpp"
+
+#include <variant>
+
+namespace ddmr::plant {
+
+const std::array<Field<StepperConfig>, 1>& stepper_fields() {
+    using P = StepperConfig;
+    static const std::array<Field<P>, 1> table{{
+        {"max_step_s", "s", positive(0.01), &P::max_step_s},
+    }};
+    return table;
+}
+
+void validate(const StepperConfig& p, const char* prefix) {
+    validate_fields(p, stepper_fields(), prefix);
+}
+
+RobotParams default_robot_params() {
+    RobotParams p;
+    // Motor 2 differs from motor 1 only where Table 2 measured it.
+    p.motor[1].resistance_ohm = 5.41;
+    p.motor[1].inductance_H = 2.4e-3;
+    p.encoder[1].seed = 2;
+    return p;
+}
+
+void validate(const RobotParams& p) {
+    for_each_section(p, [](const char* name, const auto& part, const auto&) { validate(part, name); });
+}
+
+namespace {
+template <class P, std::size_t N>
+bool fields_equal(const P& a, const P& b, const std::array<Field<P>, N>& table) {
+    bool equal = true;
+    for (const Field<P>& f : table) {
+        std::visit([&](auto m) { equal = equal && (a.*m == b.*m); }, f.member);
+    }
+    return equal;
+}
+}  // namespace
+
+bool operator==(const RobotParams& a, const RobotParams& b) {
+    return fields_equal(a.motor[0], b.motor[0], dc_motor_fields()) &&
+           fields_equal(a.motor[1], b.motor[1], dc_motor_fields()) &&
+           fields_equal(a.driver, b.driver, l298_fields()) &&
+           fields_equal(a.battery, b.battery, battery_fields()) &&
+           fields_equal(a.encoder[0], b.encoder[0], hall_encoder_fields()) &&
+           fields_equal(a.encoder[1], b.encoder[1], hall_encoder_fields()) &&
+           fields_equal(a.kinematics, b.kinematics, diff_drive_fields()) &&
+           fields_equal(a.stepper, b.stepper, stepper_fields());
+}
+
+}  // namespace ddmr::plant

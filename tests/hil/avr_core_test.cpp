@@ -1,0 +1,87 @@
+// AvrCore: the reference firmware boots at 16 MHz, runs to a cycle, stops on
+// a function's return, and answers the case bytes as the sketch says.
+#include "hil/avr_core.hpp"
+
+#include <gtest/gtest.h>
+
+#include "hil/uart_link.hpp"
+#include "support/reference_run.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+TEST(AvrCore, RunsToTheRequestedCycle) {
+    hil::AvrCore core(hil::ElfImage::read(firmware_elf()));
+    EXPECT_EQ(core.clock_hz(), 16'000'000u);
+    ASSERT_EQ(core.run_until(1'000'000), hil::RunStop::kReachedCycle);
+    // The longest AVR instruction takes 5 cycles; an interrupt entry 4 more.
+    EXPECT_GE(core.cycle(), 1'000'000u);
+    EXPECT_LT(core.cycle(), 1'000'010u);
+    EXPECT_NEAR(core.seconds(), 0.0625, 1e-6);
+}
+
+TEST(AvrCore, SetupReturnsFromItsFiveSecondDelay) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    hil::AvrCore core(elf);
+    const auto stop = core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0));
+    ASSERT_EQ(stop, hil::RunStop::kCondition);
+    // delay(5000) is called a fraction of a millisecond after reset (init(),
+    // pinMode, attachInterrupt, Serial.begin) and lasts 5000 ms of timer-0
+    // time; the return is seen within a sample period and a loop pass.
+    EXPECT_GT(core.seconds(), 5.0);
+    EXPECT_LT(core.seconds(), 5.002);
+    // The PC is back in main (setup() is inlined there by LTO).
+    const auto fn = elf.function_at(core.pc());
+    ASSERT_TRUE(fn.has_value());
+    EXPECT_NE(fn->name, "delay");
+}
+
+TEST(AvrCore, StopAfterStopsAtTheExactCycle) {
+    hil::AvrCore core(hil::ElfImage::read(firmware_elf()));
+    core.run_until(1000);
+    const auto start = core.cycle();
+    core.stop_after(5000);
+    EXPECT_EQ(core.run_until(1'000'000), hil::RunStop::kCondition);
+    EXPECT_GE(core.cycle(), start + 5000);
+    EXPECT_LT(core.cycle(), start + 5010);
+}
+
+TEST(AvrCore, Case1PrintsItsBannerThenEndAfterBootingSixSeconds) {
+    // As the issue states it: boot for 6 simulated seconds, send '1'.
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    hil::AvrCore core(elf);
+    hil::UartLink uart(core);
+    core.run_until(hil::s_to_cycles(6.0));
+    uart.send("1");
+    core.run_until(hil::s_to_cycles(6.0 + 13.0));
+    const std::string text = uart.text();
+    const auto banner = text.find("0.6m\r\n");
+    ASSERT_NE(banner, std::string::npos) << text;
+    const auto end = text.find("END\r\n");
+    ASSERT_NE(end, std::string::npos) << text;
+    EXPECT_LT(banner, end);
+    // 1200 iterations of at least 9 ms (delay(9)) lie between the two.
+    const auto end_byte = uart.received()[end];
+    EXPECT_GT(hil::cycles_to_s(end_byte.cycle), 6.0 + 1200 * 0.009);
+}
+
+TEST(AvrCore, Case2PrintsItsBanner) {
+    const auto run = run_reference_case('2');
+    ASSERT_TRUE(run.report_complete) << run.text;
+    EXPECT_EQ(run.text.rfind("0.4m\r\nEND\r\n", 0), 0u) << run.text;
+    EXPECT_EQ(run.report.banner, "0.4m");
+}
+
+TEST(AvrCore, AnyOtherByteIsAnsweredWithX) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    hil::AvrCore core(elf);
+    hil::UartLink uart(core);
+    core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0));
+    uart.send("3");
+    core.run_until(core.cycle() + hil::s_to_cycles(0.01));
+    EXPECT_EQ(uart.text(), "X\r\n");
+}
+
+}  // namespace
+}  // namespace ddmr::test

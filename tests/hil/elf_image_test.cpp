@@ -1,0 +1,113 @@
+// ElfImage: reading firmware ELFs and refusing anything that is not an
+// ATmega328P program, with a message that names the file and the problem.
+#include "hil/elf_image.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+
+#include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+std::string read_error(const std::filesystem::path& p, bool check_mcu = true) {
+    try {
+        const auto elf = hil::ElfImage::read(p);
+        if (check_mcu) elf.require_atmega328p();
+    } catch (const std::runtime_error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+void write_bytes(const std::filesystem::path& p, const std::string& bytes) {
+    std::ofstream(p, std::ios::binary) << bytes;
+}
+
+TEST(ElfImage, ReadsTheReferenceFirmware) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    EXPECT_EQ(elf.machine(), 83);  // EM_AVR
+    EXPECT_EQ(elf.flags() & 0x7Fu, 5u);  // avr5
+    EXPECT_FALSE(elf.mmcu().has_value());  // Arduino sketches have no simavr .mmcu section
+    // avr-size reports .text + .data as flash use; 9864 bytes for this sketch
+    // with Debian's core, as arduino-builder prints.
+    EXPECT_EQ(elf.memory_use().flash_bytes(), 9864u);
+    const auto main_fn = elf.require("main");
+    const auto at = elf.function_at(main_fn.address + 2);
+    ASSERT_TRUE(at.has_value());
+    EXPECT_EQ(at->name, "main");
+}
+
+TEST(ElfImage, MissingFileIsNamed) {
+    TempDir dir;
+    const auto msg = read_error(dir / "nope.elf");
+    EXPECT_NE(msg.find("nope.elf"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("no such file"), std::string::npos) << msg;
+}
+
+TEST(ElfImage, EmptyFileIsRefused) {
+    TempDir dir;
+    write_bytes(dir / "empty.elf", "");
+    EXPECT_NE(read_error(dir / "empty.elf").find("empty file"), std::string::npos);
+}
+
+TEST(ElfImage, FolderIsRefused) {
+    TempDir dir;
+    EXPECT_NE(read_error(dir.path()).find("is a folder"), std::string::npos);
+}
+
+TEST(ElfImage, RandomBytesAreNotAnElf) {
+    TempDir dir;
+    std::mt19937 rng(42);
+    std::string junk(4096, '\0');
+    for (auto& c : junk) c = static_cast<char>(rng() & 0xFF);
+    write_bytes(dir / "junk.elf", junk);
+    EXPECT_NE(read_error(dir / "junk.elf").find("not an ELF file"), std::string::npos);
+}
+
+TEST(ElfImage, TruncatedElfIsRefused) {
+    TempDir dir;
+    std::ifstream in(firmware_elf(), std::ios::binary);
+    std::string head(200, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    write_bytes(dir / "truncated.elf", head);
+    const auto msg = read_error(dir / "truncated.elf");
+    EXPECT_NE(msg.find("truncated.elf"), std::string::npos) << msg;
+    EXPECT_FALSE(msg.empty());
+}
+
+TEST(ElfImage, HostElfIsNotAnAvrFirmware) {
+    const auto self = std::filesystem::read_symlink("/proc/self/exe");
+    const auto msg = read_error(self);
+    EXPECT_NE(msg.find("not AVR"), std::string::npos) << msg;
+}
+
+TEST(ElfImage, OtherAvrArchitecturesAreRefused) {
+    // avr6 (ATmega2560) and avr25 (ATtiny85): the architecture says so.
+    EXPECT_NE(read_error(test_firmware_dir() / "other_mcu_atmega2560.elf").find("avr6"),
+              std::string::npos);
+    EXPECT_NE(read_error(test_firmware_dir() / "other_mcu_attiny85.elf").find("avr25"),
+              std::string::npos);
+}
+
+TEST(ElfImage, OtherAvr5McuIsRefusedByItsVectorTable) {
+    // The ATmega32U4 is avr5 like the ATmega328P but has 43 vectors.
+    const auto msg = read_error(test_firmware_dir() / "other_mcu_atmega32u4.elf");
+    EXPECT_NE(msg.find("more than 26 interrupt vectors"), std::string::npos) << msg;
+}
+
+TEST(ElfImage, RequireNamesTheMissingSymbol) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    try {
+        (void)elf.require("no_such_function");
+        FAIL() << "require() accepted a missing symbol";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("no_such_function"), std::string::npos);
+    }
+}
+
+}  // namespace
+}  // namespace ddmr::test

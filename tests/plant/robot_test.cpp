@@ -1,0 +1,323 @@
+// Tests for plant/robot: the composed plant. Numbers worked out by hand from
+// the defaults (plant/params/default.yaml) unless stated.
+#include "plant/robot.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "plant/pwm_waveform.hpp"
+#include "plant/units.hpp"
+
+namespace ddmr::plant {
+namespace {
+
+RobotInput averaged(double d1, double d2, bool fwd1 = true, bool fwd2 = true) {
+    RobotInput in;
+    in.mode = DriveMode::averaged;
+    in.bridge[0] = BridgeInput{false, d1, fwd1};
+    in.bridge[1] = BridgeInput{false, d2, fwd2};
+    return in;
+}
+
+/// Runs `seconds` with a constant input in steps of `h`.
+void run(Robot& r, const RobotInput& in, double seconds, double h = 1e-3) {
+    EdgeBuffer e;
+    r.set_input(in);
+    const auto n = static_cast<long>(std::lround(seconds / h));
+    for (long k = 0; k < n; ++k) {
+        e.clear();
+        ASSERT_EQ(r.step(h, e).status, StepStatus::ok);
+    }
+}
+
+/// Open-loop run with the real 490 Hz waveform (switched) or its duty
+/// (averaged, duty = OCR/255); returns the mean wheel speeds [rad/s] over
+/// the last `measure_s` seconds. Steps split at every PWM edge, as the HIL does.
+struct Mean {
+    double wheel1_rad_s;
+    double wheel2_rad_s;
+    bool current_hit_zero;  // motor 1 current exactly 0 at some step end
+};
+Mean open_loop(DriveMode mode, double duty, double seconds, double measure_s) {
+    Robot r;
+    EdgeBuffer e;
+    const PhaseCorrectPwm pwm{PhaseCorrectPwm::ocr_for_duty(duty), 0};
+    RobotInput in;
+    in.mode = mode;
+    for (BridgeInput& b : in.bridge) b = BridgeInput{false, pwm.duty(), true};
+    const std::int64_t end = s_to_cycles(seconds);
+    const std::int64_t start_measure = s_to_cycles(seconds - measure_s);
+    std::int64_t c = 0;
+    double a1 = 0.0, a2 = 0.0;
+    bool zero = false;
+    while (c < end) {
+        std::int64_t next = std::min(end, c + 1600);  // 100 us
+        if (mode == DriveMode::switched) next = std::min(next, pwm.next_edge_after(c));
+        if (c < start_measure) next = std::min(next, start_measure);
+        for (BridgeInput& b : in.bridge) b.enable = pwm.level_at(c);
+        r.set_input(in);
+        e.clear();
+        EXPECT_EQ(r.step(cycles_to_s(next - c), e).status, StepStatus::ok);
+        c = next;
+        if (c == start_measure) {
+            a1 = r.motor_angle_rad(0);
+            a2 = r.motor_angle_rad(1);
+        }
+        if (r.motor_current_A(0) == 0.0 && c > start_measure) zero = true;
+    }
+    const double gr = r.params().motor[0].gear_ratio;
+    return Mean{(r.motor_angle_rad(0) - a1) / measure_s / gr,
+                (r.motor_angle_rad(1) - a2) / measure_s / gr, zero};
+}
+
+TEST(Robot, NoLoadWheelSpeedIsTable2s210RpmAtFullDuty) {
+    Robot r;
+    run(r, averaged(1.0, 1.0), 2.0);
+    // default.yaml header: 209.9 RPM (motor 1), 209.4 RPM (motor 2); Table 2: 210 RPM +- 2 %.
+    EXPECT_NEAR(rad_s_to_rpm(r.wheel_speed_rad_s(0)), 210.0, 0.02 * 210.0);
+    EXPECT_NEAR(rad_s_to_rpm(r.wheel_speed_rad_s(1)), 210.0, 0.02 * 210.0);
+    EXPECT_NEAR(rad_s_to_rpm(r.wheel_speed_rad_s(0)), 209.87, 0.01);
+    EXPECT_NEAR(rad_s_to_rpm(r.wheel_speed_rad_s(1)), 209.35, 0.01);
+}
+
+TEST(Robot, SteadyStateMatchesTheFormulaWithTheBatterySag) {
+    Robot r;
+    run(r, averaged(0.5, 0.5), 2.0);
+    // V = 0.5 (V_b - 1.4), V_b = 6.1 - 0.037 (0.5 I_1 + 0.5 I_2) - 0.72 q/3600 ~ 6.0965;
+    // w = (K_t V - R_a T_c) / (R_a F + K_t K_a) with the simulated V_b.
+    const double vb = r.battery_voltage_V();
+    EXPECT_NEAR(vb, 6.0965, 5e-4);
+    const double v = 0.5 * (vb - 1.4);
+    EXPECT_NEAR(r.motor_speed_rad_s(0), steady_state_speed_rad_s(r.params().motor[0], v), 1e-3);
+}
+
+TEST(Robot, SwitchedAtFullDutyEqualsAveraged) {
+    const Mean a = open_loop(DriveMode::averaged, 1.0, 1.0, 0.5);
+    const Mean s = open_loop(DriveMode::switched, 1.0, 1.0, 0.5);
+    // OCR = 255: the enable pin never drops, the two models are the same equations.
+    EXPECT_DOUBLE_EQ(a.wheel1_rad_s, s.wheel1_rad_s);
+    EXPECT_DOUBLE_EQ(a.wheel2_rad_s, s.wheel2_rad_s);
+}
+
+TEST(Robot, SwitchedAtLowDutyConductsDiscontinuouslyAndDiffersFromAveraged) {
+    // Measured (docs/plant.md): at 20 % (OCR 51) the current falls to 0 in every
+    // off-time; motor 1's mean wheel speed is 6.8 % BELOW the averaged model's
+    // (29.8 RPM): each on-time starts again from zero current.
+    const Mean a20 = open_loop(DriveMode::averaged, 0.2, 3.0, 1.0);
+    const Mean s20 = open_loop(DriveMode::switched, 0.2, 3.0, 1.0);
+    EXPECT_TRUE(s20.current_hit_zero);
+    EXPECT_FALSE(a20.current_hit_zero);
+    EXPECT_NEAR(rad_s_to_rpm(a20.wheel1_rad_s), 29.8, 0.1);
+    EXPECT_NEAR(s20.wheel1_rad_s / a20.wheel1_rad_s - 1.0, -0.068, 0.01);
+    // At 50 % (OCR 128) the open bridge lets the motor coast instead of
+    // shorting it through the averaged model's 0 V: 57 % FASTER (98 -> 154 RPM).
+    const Mean a50 = open_loop(DriveMode::averaged, 0.5, 3.0, 1.0);
+    const Mean s50 = open_loop(DriveMode::switched, 0.5, 3.0, 1.0);
+    EXPECT_TRUE(s50.current_hit_zero);
+    EXPECT_NEAR(s50.wheel1_rad_s / a50.wheel1_rad_s - 1.0, 0.57, 0.02);
+}
+
+TEST(Robot, IdenticalMotorsDriveAStraightLine) {
+    RobotParams p = default_robot_params();
+    p.motor[1] = p.motor[0];
+    Robot r(p);
+    run(r, averaged(0.7, 0.7), 1.0);
+    EXPECT_GT(r.pose().x_m, 0.3);
+    EXPECT_EQ(r.pose().y_m, 0.0);
+    EXPECT_EQ(r.pose().theta_rad, 0.0);
+    EXPECT_EQ(r.body_velocity().omega_rad_s, 0.0);
+}
+
+TEST(Robot, UnequalWheelsDriveTheCircleOfRadiusLSumOverDifference) {
+    RobotParams p = default_robot_params();
+    p.motor[1] = p.motor[0];
+    Robot r(p);
+    run(r, averaged(0.8, 0.4), 1.0);  // reach steady state
+    const double w1 = r.wheel_speed_rad_s(0);
+    const double w2 = r.wheel_speed_rad_s(1);
+    // Motor 1 (right) faster: counter-clockwise, radius 0.064 (w1 + w2)/(w1 - w2).
+    const double radius = 0.064 * (w1 + w2) / (w1 - w2);
+    const Pose p0 = r.pose();
+    const double cx = p0.x_m - radius * std::sin(p0.theta_rad);
+    const double cy = p0.y_m + radius * std::cos(p0.theta_rad);
+    run(r, averaged(0.8, 0.4), 2.0);
+    EXPECT_GT(r.body_velocity().omega_rad_s, 0.0);
+    EXPECT_NEAR(std::hypot(r.pose().x_m - cx, r.pose().y_m - cy), radius, 1e-6);
+}
+
+TEST(Robot, OppositeDirectionsRotateInPlace) {
+    RobotParams p = default_robot_params();
+    p.motor[1] = p.motor[0];
+    Robot r(p);
+    // Motor 1 forward, motor 2 reverse: v = 0, omega > 0, position unchanged.
+    run(r, averaged(0.6, 0.6, true, false), 1.0);
+    EXPECT_NEAR(r.pose().x_m, 0.0, 1e-15);
+    EXPECT_NEAR(r.pose().y_m, 0.0, 1e-15);
+    EXPECT_GT(r.pose().theta_rad, 1.0);
+    EXPECT_EQ(r.edge_count(0), r.edge_count(1));  // no direction output: both count up
+}
+
+TEST(Robot, ChargeDrawnIsTheIntegralOfTheSupplyCurrent) {
+    Robot r;
+    run(r, averaged(1.0, 1.0), 1.0);  // steady state
+    const double q0 = r.charge_drawn_C();
+    // I_1 + I_2 = 0.1203 + 0.1202 A (no-load currents, default.yaml header)
+    EXPECT_NEAR(r.supply_current_A(), 0.2405, 1e-3);
+    // Trapezoid rule on 1 ms samples of I_1 + I_2 over 2 s (it drifts only as
+    // the battery sags, so the rule is exact to ~1e-12 C here).
+    double integral = 0.0;
+    EdgeBuffer e;
+    for (int k = 0; k < 2000; ++k) {
+        const double i0 = r.supply_current_A();
+        e.clear();
+        ASSERT_EQ(r.step(1e-3, e).status, StepStatus::ok);
+        integral += 0.5 * (i0 + r.supply_current_A()) * 1e-3;
+    }
+    EXPECT_NEAR(r.charge_drawn_C() - q0, integral, 1e-9);
+    EXPECT_NEAR(integral, 2.0 * 0.2405, 1e-3);  // ~ constant current x 2 s
+    // eq. (19): V_b = 6.1 - 0.72 q / 3600 - 0.037 (I_1 + I_2)
+    EXPECT_NEAR(r.battery_voltage_V(),
+                6.1 - 0.72 * r.charge_drawn_C() / 3600.0 - 0.037 * r.supply_current_A(), 1e-12);
+}
+
+TEST(Robot, EncoderEdgesAreSortedAndCountEightPerMotorRevolution) {
+    Robot r;
+    r.set_input(averaged(0.9, 0.6));
+    std::vector<EncoderEdge> all;
+    EdgeBuffer e;
+    for (int k = 0; k < 1000; ++k) {
+        e.clear();
+        ASSERT_EQ(r.step(1e-3, e).status, StepStatus::ok);
+        for (std::size_t i = 1; i < e.size(); ++i) EXPECT_LE(e[i - 1].t_s, e[i].t_s);
+        all.insert(all.end(), e.begin(), e.end());
+    }
+    for (std::size_t m = 0; m < 2; ++m) {
+        // count = floor(8 x motor revolutions + 0.5) (initial phase 0.5)
+        const double revs = r.motor_angle_rad(m) / (2 * kPi);
+        EXPECT_EQ(r.edge_count(m), static_cast<std::uint64_t>(std::floor(8 * revs + 0.5)));
+    }
+    EXPECT_EQ(all.size(), r.edge_count(0) + r.edge_count(1));
+}
+
+TEST(Robot, BadInputIsReportedAndChangesNothing) {
+    Robot r;
+    EdgeBuffer e;
+    r.set_input(averaged(1.5, 0.0));
+    EXPECT_EQ(r.step(1e-3, e).status, StepStatus::bad_input);
+    r.set_input(averaged(std::numeric_limits<double>::quiet_NaN(), 0.0));
+    EXPECT_EQ(r.step(1e-3, e).status, StepStatus::bad_input);
+    r.set_input(averaged(0.5, 0.5));
+    EXPECT_EQ(r.step(0.0, e).status, StepStatus::bad_input);
+    EXPECT_EQ(r.step(-1e-3, e).status, StepStatus::bad_input);
+    EXPECT_EQ(r.step(std::numeric_limits<double>::quiet_NaN(), e).status, StepStatus::bad_input);
+    EXPECT_EQ(r.time_s(), 0.0);
+    EXPECT_EQ(r.step(1e-3, e).status, StepStatus::ok);
+}
+
+TEST(Robot, NonFiniteStateStopsTheRunWithItsTime) {
+    Robot r;
+    EdgeBuffer e;
+    r.set_input(averaged(1.0, 1.0));
+    ASSERT_EQ(r.step(0.01, e).status, StepStatus::ok);
+    RobotState s = r.state();
+    s.motor[1].current_A = std::numeric_limits<double>::quiet_NaN();
+    r.set_state(s);
+    const StepResult res = r.step(1e-3, e);
+    EXPECT_EQ(res.status, StepStatus::diverged);
+    EXPECT_NEAR(r.diverged_at_s(), 0.01, 1e-12);
+    EXPECT_EQ(r.step(1e-3, e).status, StepStatus::diverged);  // sticky
+    EXPECT_STREQ(to_string(res.status), "diverged");
+}
+
+TEST(Robot, EdgeBufferOverflowIsReported) {
+    Robot r;
+    EdgeBuffer e;
+    r.set_input(averaged(1.0, 1.0));
+    // 1 s at full speed: ~2 x 1300 edges > 256.
+    const StepResult res = r.step(1.0, e);
+    EXPECT_EQ(res.status, StepStatus::edge_overflow);
+    EXPECT_EQ(e.size(), EdgeBuffer::kCapacity);
+    EXPECT_EQ(e.dropped() + e.size(), r.edge_count(0) + r.edge_count(1));
+}
+
+// ---- halving the step in a closed loop ------------------------------------
+
+/// A firmware-like loop (the thesis's Kanayama tracker of the 0.6 m, 12 s
+/// circle): every 10 ms it reads the edge counts, dead-reckons, and sets the
+/// duties (|Vdc| / 255) and directions. Returns the plant's final pose.
+Pose closed_loop(double max_step_s, DriveMode mode) {
+    RobotParams p = default_robot_params();
+    p.stepper.max_step_s = max_step_s;
+    Robot r(p);
+    EdgeBuffer e;
+    const double dt = 0.01, r1 = 0.03215, big_r = 7.874, ka = 0.0054, gr = 48, batt = 0.164;
+    const double radpuls = 2 * kPi / 384, kx = 1, ky = 6, kw = 8, vref = 0.2, wref = 0.2;
+    double ex = 0, ey = 0, th = 0, t = 0, angref = 1.571;
+    std::uint64_t old1 = 0, old2 = 0;
+    std::array<PhaseCorrectPwm, 2> pwm{PhaseCorrectPwm{50, 0}, PhaseCorrectPwm{30, 1000}};
+    std::array<bool, 2> fwd{true, true};
+    std::int64_t c = 0;
+    for (int loop = 0; loop < 1200; ++loop) {
+        // Plant runs one 10 ms loop with the current outputs.
+        const std::int64_t loop_end = c + s_to_cycles(dt);
+        while (c < loop_end) {
+            std::int64_t next = std::min(loop_end, c + s_to_cycles(max_step_s));
+            RobotInput in;
+            in.mode = mode;
+            for (std::size_t m = 0; m < 2; ++m) {
+                if (mode == DriveMode::switched) next = std::min(next, pwm[m].next_edge_after(c));
+                in.bridge[m] = BridgeInput{pwm[m].level_at(c), pwm[m].duty(), fwd[m]};
+            }
+            r.set_input(in);
+            e.clear();
+            EXPECT_EQ(r.step(cycles_to_s(next - c), e).status, StepStatus::ok);
+            c = next;
+        }
+        // Controller.
+        const double p1 = static_cast<double>(r.edge_count(0) - old1) * radpuls / dt;
+        const double p2 = static_cast<double>(r.edge_count(1) - old2) * radpuls / dt;
+        old1 = r.edge_count(0);
+        old2 = r.edge_count(1);
+        const double vel = 0.5 * r1 * (p1 + p2), om = big_r * r1 * (p1 - p2);
+        th += dt * om;
+        ex += dt * std::cos(th) * vel;
+        ey += dt * std::sin(th) * vel;
+        const double errx = 0.6 * std::cos(0.5236 * t) - ex, erry = 0.6 * std::sin(0.5236 * t) - ey;
+        const double et = angref - th;
+        const double exr = std::cos(th) * errx + std::sin(th) * erry;
+        const double eyr = -std::sin(th) * errx + std::cos(th) * erry;
+        const double v = vref * std::cos(et) + kx * exr;
+        const double w = wref + vref * (ky * eyr + kw * std::sin(et));
+        const std::array<double, 2> vdc{255 * gr * ka * (30.3 * v + 1.92 * w) * batt,
+                                        255 * gr * ka * (30.3 * v - 1.92 * w) * batt};
+        for (std::size_t m = 0; m < 2; ++m) {
+            fwd[m] = vdc[m] >= 0;
+            pwm[m].ocr = static_cast<std::uint8_t>(std::min(255.0, std::floor(std::abs(vdc[m]))));
+        }
+        t += dt;
+        angref += dt * 0.5236;
+    }
+    return r.pose();
+}
+
+TEST(Robot, HalvingTheStepMovesA12sClosedLoopRunByLessThanATenthMm) {
+    for (DriveMode mode : {DriveMode::averaged, DriveMode::switched}) {
+        const double h = default_robot_params().stepper.max_step_s;  // 2e-5 s
+        const Pose a = closed_loop(h, mode);
+        const Pose b = closed_loop(h / 2, mode);
+        const double d = std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
+        EXPECT_LT(d, 1e-4) << "mode " << static_cast<int>(mode);
+        // It did go somewhere: a 0.6 m circle, not a robot standing still.
+        EXPECT_GT(std::hypot(a.x_m, a.y_m), 0.2);
+        RecordProperty(mode == DriveMode::averaged ? "averaged_m" : "switched_m", std::to_string(d));
+        std::printf("mode %d: end (%.4f, %.4f), halving moved it %.3g m\n", static_cast<int>(mode),
+                    a.x_m, a.y_m, d);
+    }
+}
+
+}  // namespace
+}  // namespace ddmr::plant

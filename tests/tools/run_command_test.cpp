@@ -1,0 +1,139 @@
+// `ddmr-hil run` end to end: the artifacts of a good run, determinism, and
+// bad input refused with one line naming the problem, nothing written.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "support/process.hpp"
+#include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+using nlohmann::json;
+
+std::string cli() { return sh_quote(cli_path().string()); }
+
+int line_count(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+TEST(RunCommand, Case1WritesUartEepromAndSummary) {
+    TempDir dir;
+    const auto out = dir / "run";
+    const auto r = run_command(cli() + " run --case 1 -q --out " + sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string uart = read_text(out / "uart.txt");
+    EXPECT_EQ(uart.rfind("0.6m\r\nEND\r\n0\r\n0\r\n", 0), 0u) << uart.substr(0, 40);
+    // The last line is the erased pair at bytes 240/740: 255 / 250 = 1.020.
+    EXPECT_EQ(uart.substr(uart.size() - 15), "1.020 , 1.020\r\n");
+    EXPECT_EQ(read_text(out / "eeprom.bin").size(), 1024u);
+
+    const json s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s["exit_reason"], "report_complete");
+    EXPECT_EQ(s["firmware"]["flash_bytes"], 9864);
+    EXPECT_EQ(s["firmware"]["sha256"].get<std::string>().size(), 64u);
+    EXPECT_EQ(s["firmware"]["path"], firmware_elf().string());
+    EXPECT_GT(s["cycles_total"].get<uint64_t>(), 16'000'000ull * 17);  // 5 s boot + 12 s run
+    EXPECT_NEAR(s["sim_seconds"].get<double>(), s["cycles_total"].get<double>() / 16e6, 1e-9);
+    EXPECT_GT(s["wall_seconds"].get<double>(), 0.0);
+    EXPECT_GT(s["mcycles_per_s"].get<double>(), 0.0);
+    const json& rep = s["firmware_report"];
+    EXPECT_EQ(rep["count1"], 0);
+    EXPECT_EQ(rep["count2"], 0);
+    EXPECT_EQ(rep["addr"], 240);
+    EXPECT_DOUBLE_EQ(rep["gx"].get<double>(), 0.6);
+    EXPECT_DOUBLE_EQ(rep["t"].get<double>(), 12.0);
+    for (const char* k : {"gy", "v", "w", "ex", "ey", "theta", "errx", "erry", "errxr"}) {
+        EXPECT_TRUE(rep.contains(k)) << k;
+    }
+    EXPECT_EQ(rep["eeprom_pairs"].size(), 121u);
+    EXPECT_EQ(r.out.find("report_complete") != std::string::npos, true) << r.out;
+}
+
+TEST(RunCommand, SameInputsGiveByteIdenticalArtifacts) {
+    TempDir dir;
+    for (const char* name : {"a", "b"}) {
+        const auto r = run_command(cli() + " run --case 2 -q --out " + sh_quote((dir / name).string()));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    EXPECT_EQ(read_text(dir / "a" / "uart.txt"), read_text(dir / "b" / "uart.txt"));
+    EXPECT_EQ(read_text(dir / "a" / "eeprom.bin"), read_text(dir / "b" / "eeprom.bin"));
+    json a = json::parse(read_text(dir / "a" / "summary.json"));
+    json b = json::parse(read_text(dir / "b" / "summary.json"));
+    // Only the host's wall-clock figures may differ between two runs.
+    for (json* j : {&a, &b}) {
+        j->erase("wall_seconds");
+        j->erase("mcycles_per_s");
+    }
+    EXPECT_EQ(a, b);
+}
+
+TEST(RunCommand, TimeLimitIsAFirmwareFailureWithArtifactsKept) {
+    TempDir dir;
+    const auto out = dir / "short";
+    const auto r = run_command(cli() + " run --seconds 5.5 -q --out " + sh_quote(out.string()));
+    EXPECT_EQ(r.exit_code, 3);
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("timeout after 5.5 simulated s"), std::string::npos) << r.err;
+    const json s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s["exit_reason"], "timeout");
+    EXPECT_EQ(read_text(out / "uart.txt"), "0.6m\r\n");
+}
+
+TEST(RunCommand, HelpListsTheOptions) {
+    const auto r = run_command(cli() + " run --help");
+    EXPECT_EQ(r.exit_code, 0);
+    for (const char* opt : {"--firmware", "--case", "--seconds", "--out", "--eeprom"}) {
+        EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+    }
+}
+
+struct BadInput {
+    const char* name;
+    std::string args;      ///< after `ddmr-hil run`, before --out
+    const char* expected;  ///< a fragment of the one-line error
+};
+
+// Names the case in test output instead of dumping the struct's bytes.
+void PrintTo(const BadInput& b, std::ostream* os) { *os << b.name; }
+
+class RunCommandBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(RunCommandBadInput, OneLineNonZeroExitNothingWritten) {
+    TempDir dir;
+    std::ofstream(dir / "not-elf.elf") << "this is not an ELF file\n";
+    const auto& p = GetParam();
+    std::string args = p.args;
+    const std::string tmp = "@TMP@";
+    if (auto pos = args.find(tmp); pos != std::string::npos) args.replace(pos, tmp.size(), dir.path().string());
+    const auto out = dir / "out";
+    const auto r = run_command(cli() + " run " + args + " -q --out " + sh_quote(out.string()));
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(p.expected), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << "bad input created the output folder";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, RunCommandBadInput,
+    ::testing::Values(
+        BadInput{"MissingElf", "--firmware @TMP@/missing.elf", "missing.elf: no such file"},
+        BadInput{"NotAnElf", "--firmware @TMP@/not-elf.elf", "not an ELF file"},
+        BadInput{"OtherMcu", "--firmware " + (test_firmware_dir() / "other_mcu_atmega2560.elf").string(),
+                 "avr6"},
+        BadInput{"HostElf", "--firmware /bin/true", "not AVR"},
+        BadInput{"Case3", "--case 3", "--case"},
+        BadInput{"NegativeSeconds", "--seconds -1", "--seconds"},
+        BadInput{"ZeroSeconds", "--seconds 0", "--seconds"},
+        BadInput{"NotANumber", "--seconds abc", "--seconds"},
+        BadInput{"MissingEeprom", "--eeprom @TMP@/none.bin", "none.bin"},
+        BadInput{"ShortEeprom", "--eeprom @TMP@/not-elf.elf", "bytes, the ATmega328P has 1024"},
+        BadInput{"UnknownReadySymbol", "--ready-symbol nosuch", "no symbol 'nosuch'"}),
+    [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
+
+}  // namespace
+}  // namespace ddmr::test

@@ -1,0 +1,68 @@
+#include "common/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+namespace ddmr::tools {
+namespace fs = std::filesystem;
+
+namespace {
+[[noreturn]] void fail(const fs::path& path, const char* what, int err) {
+    throw std::runtime_error(std::string("cannot write ") + path.string() + ": " + what + ": " +
+                             std::strerror(err));
+}
+}  // namespace
+
+void write_file_atomic(const fs::path& path, std::string_view content) {
+    fs::path tmp = path;
+    tmp += ".tmp-" + std::to_string(::getpid());
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) fail(path, "open", errno);
+    const char* p = content.data();
+    std::size_t left = content.size();
+    while (left > 0) {
+        const ssize_t n = ::write(fd, p, left);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int err = errno;
+            ::close(fd);
+            ::unlink(tmp.c_str());
+            fail(path, "write", err);
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd) != 0 || ::close(fd) != 0) {
+        const int err = errno;
+        ::unlink(tmp.c_str());
+        fail(path, "sync", err);
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(tmp.c_str());
+        fail(path, "rename", err);
+    }
+}
+
+void prepare_output_dir(const fs::path& dir) {
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+        throw std::runtime_error("output folder " + dir.string() + " exists and is not a folder");
+    }
+    fs::create_directories(dir, ec);
+    if (ec) {
+        throw std::runtime_error("cannot create output folder " + dir.string() + ": " + ec.message());
+    }
+    if (::access(dir.c_str(), W_OK) != 0) {
+        throw std::runtime_error("output folder " + dir.string() + " is not writable: " +
+                                 std::strerror(errno));
+    }
+}
+
+}  // namespace ddmr::tools

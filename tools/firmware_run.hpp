@@ -1,0 +1,65 @@
+#pragma once
+// One HIL run of a firmware, as `ddmr-hil run` does it: boot, wait for the
+// end of setup(), send the case byte, run until the firmware's end-of-run
+// report has been sent (or the simulated-time limit), then write the run's
+// artifacts atomically to the output folder.
+//
+// Outputs in `out_dir`:
+//   uart.txt      every byte the firmware sent, verbatim
+//   eeprom.bin    the 1024 EEPROM bytes at the end
+//   summary.json  firmware identity, cycle counts, timing, exit reason and the
+//                 parsed firmware report (see FirmwareReport)
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "hil/avr_core.hpp"
+#include "hil/eeprom_port.hpp"
+#include "hil/firmware_report.hpp"
+#include "hil/uart_link.hpp"
+
+namespace ddmr::tools {
+
+struct FirmwareRunOptions {
+    std::filesystem::path firmware;       ///< ELF for the ATmega328P
+    int test_case = 1;                    ///< byte '1' or '2' sent to the sketch
+    double max_sim_seconds = 60.0;        ///< simulated-time limit [s], > 0
+    std::filesystem::path out_dir;        ///< created if missing
+    /// The case byte is sent when the firmware first returns from this function
+    /// (the reference sketch's setup() ends with delay(5000)).
+    std::string ready_symbol = "delay";
+    std::optional<std::filesystem::path> eeprom_preload;  ///< 1024-byte image
+    hil::UartTiming uart_timing = hil::UartTiming::kChip;
+    bool progress = false;                ///< one progress line per simulated second on stderr
+    bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
+};
+
+enum class RunExit {
+    kReportComplete,  ///< the whole end-of-run report was received
+    kTimeout,         ///< the simulated-time limit came first
+    kCrashed,         ///< simavr stopped the CPU (PC past flash, bad access)
+    kSleepForever,    ///< SLEEP with interrupts off
+    kReportMalformed, ///< the firmware printed something the report parser rejects
+};
+
+const char* to_string(RunExit exit);
+
+struct FirmwareRunResult {
+    RunExit exit = RunExit::kTimeout;
+    std::string message;          ///< one line for stderr when exit != kReportComplete
+    hil::Cycles cycles_total = 0;
+    std::optional<hil::Cycles> ready_cycle;  ///< when the case byte was sent
+    double wall_seconds = 0.0;
+    std::string uart_text;
+    hil::EepromImage eeprom{};
+    hil::FirmwareReport report;
+};
+
+/// Validates every input (throws std::runtime_error / std::invalid_argument
+/// naming the bad value, before anything is written), runs, writes the
+/// artifacts and returns what happened.
+FirmwareRunResult run_firmware(const FirmwareRunOptions& options);
+
+}  // namespace ddmr::tools

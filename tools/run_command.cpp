@@ -1,0 +1,80 @@
+#include "run_command.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "exit_codes.hpp"
+#include "firmware_run.hpp"
+
+namespace ddmr::tools {
+namespace {
+
+struct RunCli {
+    FirmwareRunOptions options;
+    std::string out_dir;
+    std::string eeprom_preload;
+    std::string uart_timing = "chip";
+    bool quiet = false;
+    bool progress = false;
+};
+
+}  // namespace
+
+Subcommand register_run_command(CLI::App& app) {
+    auto cli = std::make_shared<RunCli>();
+    cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
+    CLI::App* sub = app.add_subcommand(
+        "run",
+        "Run the firmware in simavr: boot, wait for setup() to end, send the case byte, and record "
+        "the UART, the EEPROM and a summary until the firmware's end-of-run report has been sent.");
+    sub->add_option("--firmware", cli->options.firmware, "Firmware ELF for the ATmega328P")
+        ->capture_default_str();
+    sub->add_option("--case", cli->options.test_case,
+                    "Case byte sent to the sketch: 1 = 0.6 m circle in 12 s, 2 = 0.4 m in 8 s")
+        ->capture_default_str();
+    sub->add_option("--seconds", cli->options.max_sim_seconds,
+                    "Simulated-time limit [s]; the run ends earlier when the report is complete")
+        ->capture_default_str();
+    sub->add_option("--out", cli->out_dir, "Output folder [default: out/run-case<N>]");
+    sub->add_option("--eeprom", cli->eeprom_preload,
+                    "Preload the EEPROM from this 1024-byte image (default: erased, all 0xFF)");
+    sub->add_option("--ready-symbol", cli->options.ready_symbol,
+                    "Send the case byte when the firmware first returns from this function")
+        ->capture_default_str();
+    sub->add_option("--uart-timing", cli->uart_timing,
+                    "UART frame time: chip (datasheet, 8N1 = 10 bits) or simavr (1.6's 11 bits)")
+        ->check(CLI::IsMember({"chip", "simavr"}))
+        ->capture_default_str();
+    sub->add_flag("--progress", cli->progress, "Print progress every simulated second (default when "
+                                               "stderr is a terminal)");
+    sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
+    sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
+
+    return Subcommand{sub, [cli]() {
+        FirmwareRunOptions o = cli->options;
+        o.out_dir = cli->out_dir.empty() ? "out/run-case" + std::to_string(o.test_case) : cli->out_dir;
+        if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
+        o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
+        o.progress = !cli->quiet && (cli->progress || ::isatty(STDERR_FILENO) != 0);
+        const FirmwareRunResult r = run_firmware(o);
+        const double sim_s = hil::cycles_to_s(r.cycles_total);
+        std::printf("%s: %s after %.3f simulated s (%llu cycles) in %.2f s wall, %.1f Mcycles/s\n",
+                    o.out_dir.c_str(), to_string(r.exit), sim_s,
+                    static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
+                    r.wall_seconds > 0 ? static_cast<double>(r.cycles_total) / r.wall_seconds / 1e6 : 0.0);
+        if (r.exit != RunExit::kReportComplete) {
+            std::fprintf(stderr, "ddmr-hil run: %s\n", r.message.c_str());
+            return kExitFirmware;
+        }
+        const auto& rep = r.report;
+        std::printf("firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
+                    "theta %.4f rad, %zu EEPROM points\n",
+                    rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
+                    rep.ey.value_or(0), rep.theta.value_or(0), rep.eeprom_pairs.size());
+        return kExitOk;
+    }};
+}
+
+}  // namespace ddmr::tools
