@@ -12,9 +12,15 @@ inline constexpr const char* kMcuName = "atmega328p";
 inline constexpr uint32_t kClockHz = 16'000'000;  ///< Uno crystal [Hz]
 inline constexpr uint32_t kFlashBytes = 32 * 1024;
 inline constexpr uint32_t kSramBytes = 2 * 1024;
+inline constexpr uint16_t kSramStart = 0x0100;      ///< first SRAM address (after the I/O space)
 inline constexpr uint16_t kRamEnd = 0x08FF;         ///< last SRAM address
 inline constexpr uint32_t kEepromBytes = 1024;
 inline constexpr uint8_t kEepromErased = 0xFF;      ///< value of an erased EEPROM byte
+/// An EEPROM write from the CPU (atomic erase + write, EEPM = 00) is timed by the
+/// calibrated RC oscillator, not the CPU clock: 26,368 cycles of it, typ. 3.3 ms.
+/// Datasheet 7810D, section 8.6.3 "EECR", Table 8-2 "EEPROM Programming Time".
+inline constexpr uint32_t kEepromWriteRcCycles = 26'368;
+inline constexpr uint32_t kCalibratedRcHz = 8'000'000;  ///< calibrated RC oscillator [Hz]
 inline constexpr int kVectorCount = 26;             ///< interrupt vectors incl. RESET
 inline constexpr int kVectorBytes = 4;              ///< each vector is a JMP (2 words)
 /// e_flags architecture of avr-gcc's -mmcu=atmega328p objects (EF_AVR_ARCH_AVR5).
@@ -34,23 +40,52 @@ namespace reg {
 inline constexpr uint16_t kPinB = 0x23;
 inline constexpr uint16_t kDdrB = 0x24;
 inline constexpr uint16_t kPortB = 0x25;
+inline constexpr uint16_t kPinC = 0x26;
+inline constexpr uint16_t kPortC = 0x28;
 inline constexpr uint16_t kPinD = 0x29;
 inline constexpr uint16_t kPortD = 0x2B;
+inline constexpr uint16_t kEifr = 0x3C;   ///< INTF0 = bit 0, INTF1 = bit 1
 inline constexpr uint16_t kEecr = 0x3F;
+inline constexpr uint16_t kEedr = 0x40;
+inline constexpr uint16_t kEearL = 0x41;
+inline constexpr uint16_t kEearH = 0x42;
 inline constexpr uint16_t kSpl = 0x5D;
 inline constexpr uint16_t kSph = 0x5E;
 inline constexpr uint16_t kSreg = 0x5F;
+inline constexpr uint16_t kEicra = 0x69;
 inline constexpr uint16_t kTccr1A = 0x80;
+inline constexpr uint16_t kTccr1B = 0x81;
+inline constexpr uint16_t kOcr1AL = 0x88;
+inline constexpr uint16_t kOcr1AH = 0x89;
 inline constexpr uint16_t kOcr1BL = 0x8A;
 inline constexpr uint16_t kOcr1BH = 0x8B;
 inline constexpr uint16_t kTccr2A = 0xB0;
+inline constexpr uint16_t kTccr2B = 0xB1;
 inline constexpr uint16_t kOcr2A = 0xB3;
+inline constexpr uint16_t kOcr2B = 0xB4;
 inline constexpr uint16_t kUcsr0A = 0xC0;
 inline constexpr uint16_t kUcsr0B = 0xC1;
 inline constexpr uint16_t kUcsr0C = 0xC2;
 inline constexpr uint16_t kUbrr0L = 0xC4;
 inline constexpr uint16_t kUbrr0H = 0xC5;
 }  // namespace reg
+
+/// Compare-output mode bits COMnx1 in TCCRnA (non-inverting PWM when set).
+namespace com_bit {
+inline constexpr uint8_t kComA1 = 1U << 7;
+inline constexpr uint8_t kComB1 = 1U << 5;
+}  // namespace com_bit
+
+/// Clock-select bits CSn2:0 in TCCRnB: 0 = timer stopped.
+inline constexpr uint8_t kClockSelectMask = 0x07;
+
+/// Bits of EECR (datasheet 8.6.3).
+namespace eecr_bit {
+inline constexpr int kEere = 0;   ///< EEPROM read enable
+inline constexpr int kEepe = 1;   ///< EEPROM (programming) enable; cleared by hardware when done
+inline constexpr int kEempe = 2;  ///< master programming enable, self-clearing after 4 cycles
+inline constexpr int kEerie = 3;  ///< EEPROM ready interrupt enable
+}  // namespace eecr_bit
 
 /// Bits of UCSR0A / UCSR0B / UCSR0C used to time the UART.
 namespace uart_bit {

@@ -97,6 +97,8 @@ RobotParams parse_robot_params(std::string_view yaml_text, const std::string& so
     }
     for (const auto& kv : root) {
         const std::string section = kv.first.as<std::string>();
+        // The Uno wiring may share the file; hil/board.cpp reads and checks it.
+        if (section == kBoardSection) continue;
         bool known = false;
         for_each_section(p, [&](const char* name, auto& part, const auto& table) {
             if (section != name) return;
@@ -106,7 +108,7 @@ RobotParams parse_robot_params(std::string_view yaml_text, const std::string& so
         if (!known) {
             throw ParamsFileError(where(source, kv.first.Mark()) + ": unknown key '" + section +
                                   "' (sections: motor1, motor2, driver, battery, encoder1, "
-                                  "encoder2, kinematics, integration)");
+                                  "encoder2, kinematics, integration, board)");
         }
     }
     try {

@@ -17,6 +17,10 @@
 
 namespace ddmr::plant {
 
+/// A top-level section the plant loader leaves to the HIL: the Uno wiring
+/// (hil/board.hpp), so one file can describe the robot and its board.
+inline constexpr const char* kBoardSection = "board";
+
 /// Error in a parameter file; what() is a single line.
 class ParamsFileError : public std::runtime_error {
   public:

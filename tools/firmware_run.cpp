@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +11,13 @@
 
 #include "common/atomic_file.hpp"
 #include "common/sha256.hpp"
+#include "common/truth_csv.hpp"
+#include "hil/board.hpp"
+#include "hil/eeprom_log.hpp"
 #include "hil/elf_image.hpp"
+#include "hil/loop_tracer.hpp"
+#include "hil/robot_rig.hpp"
+#include "plant/params_yaml.hpp"
 
 namespace ddmr::tools {
 namespace {
@@ -18,8 +25,23 @@ namespace {
 using hil::Cycles;
 using nlohmann::json;
 
-/// How often progress is reported and the parser's completion is checked [s].
+/// How often progress is reported [simulated s].
 constexpr double kProgressPeriodS = 1.0;
+
+/// The reference sketch's globals in firmware.csv (those LTO keeps; `v` and
+/// `w` live only in registers). Vdc1/Vdc2 are int (16-bit on AVR).
+const std::vector<hil::TracedVariable>& traced_variables() {
+    using hil::VarType;
+    static const std::vector<hil::TracedVariable> vars = {
+        {"Ex", VarType::kFloat},    {"Ey", VarType::kFloat},    {"Theta", VarType::kFloat},
+        {"Vel", VarType::kFloat},   {"Omega", VarType::kFloat}, {"Vdc1", VarType::kInt16},
+        {"Vdc2", VarType::kInt16},  {"t", VarType::kFloat},     {"errx", VarType::kFloat},
+        {"erry", VarType::kFloat},  {"errxr", VarType::kFloat},
+    };
+    return vars;
+}
+/// The sketch advances `t` by dt just before each iteration's delay(9).
+const hil::TracedVariable kLoopMarker{"t", hil::VarType::kFloat};
 
 json number_or_null(const std::optional<double>& v) {
     if (!v || !std::isfinite(*v)) return nullptr;
@@ -44,6 +66,33 @@ json report_json(const hil::FirmwareReport& r) {
     };
 }
 
+json pose_json(const plant::Pose& p) {
+    return json{{"x_m", p.x_m}, {"y_m", p.y_m}, {"theta_rad", p.theta_rad}};
+}
+
+hil::RigConfig rig_config(const FirmwareRunOptions& o) {
+    hil::RigConfig c;
+    if (o.plant_file) {
+        c.plant = plant::load_robot_params(*o.plant_file);
+        if (auto board = hil::load_board_section(*o.plant_file)) c.board = *board;
+    }
+    if (o.board_file) {
+        auto board = hil::load_board_section(*o.board_file);
+        if (!board) throw std::runtime_error(o.board_file->string() + ": no 'board:' section");
+        c.board = *board;
+    }
+    c.coupler.mode = o.pwm;
+    if (o.coupling_step_cycles == 0 || 16000 % o.coupling_step_cycles != 0) {
+        throw std::invalid_argument(fmt::format(
+            "--coupling-step {} cycles: must divide the 16,000-cycle (1 ms) truth period",
+            o.coupling_step_cycles));
+    }
+    c.coupler.step_cycles = o.coupling_step_cycles;
+    c.eeprom_timing = o.eeprom_timing;
+    c.uart_timing = o.uart_timing;
+    return c;
+}
+
 }  // namespace
 
 const char* to_string(RunExit exit) {
@@ -53,6 +102,7 @@ const char* to_string(RunExit exit) {
         case RunExit::kCrashed: return "crashed";
         case RunExit::kSleepForever: return "sleep_with_interrupts_off";
         case RunExit::kReportMalformed: return "report_malformed";
+        case RunExit::kPlantFailed: return "plant_failed";
     }
     return "unknown";
 }
@@ -77,16 +127,69 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     std::optional<hil::EepromImage> preload;
     if (options.eeprom_preload) preload = hil::EepromPort::load_image(*options.eeprom_preload);
+    const hil::RigConfig config = rig_config(options);
     const std::string sha256 = sha256_file_hex(options.firmware);
+
+    const auto wall_start = std::chrono::steady_clock::now();
+    hil::RobotRig rig(elf, config);
+    hil::AvrCore& core = rig.core();
+    hil::UartLink& uart = rig.uart();
+    core.log().set_echo(options.echo_simavr_log ? stderr : nullptr);
+    if (preload) rig.eeprom().preload(*preload);
+    // Firmware globals traced per iteration: a firmware without them (not the
+    // reference sketch) is refused here, before anything is written.
+    hil::LoopTracer tracer(rig.variables(), kLoopMarker, traced_variables());
     prepare_output_dir(options.out_dir);
 
-    // --- Wire the parts and run. ---
-    const auto wall_start = std::chrono::steady_clock::now();
-    hil::AvrCore core(elf);
-    core.log().set_echo(options.echo_simavr_log ? stderr : nullptr);
-    hil::UartLink uart(core, options.uart_timing);
-    hil::EepromPort eeprom(core);
-    if (preload) eeprom.preload(*preload);
+    // --- Streamed outputs (atomic: renamed into place at the end). ---
+    AtomicFileWriter truth_csv(options.out_dir / "truth.csv");
+    truth_csv.write(truth_csv_header(/*with_drive=*/true));
+    std::string row;
+    rig.coupler().set_truth_sink([&](const hil::TruthSample& s) {
+        row.clear();
+        append_truth_row(row, s, /*with_drive=*/true);
+        truth_csv.write(row);
+    });
+    AtomicFileWriter firmware_csv(options.out_dir / "firmware.csv");
+    {
+        std::string header = "iteration,cycle,t_avr_s";
+        for (const auto& v : traced_variables()) header += "," + v.name;
+        firmware_csv.write(header + "\n");
+    }
+    // Loop period: gaps between consecutive iterations whose `t` increased
+    // (the sketch resets t to 0 after its report: not an iteration).
+    double last_t = 0.0;
+    Cycles last_iteration_cycle = 0;
+    bool have_last = false;
+    Cycles period_sum = 0;
+    uint64_t period_count = 0;
+    uint64_t loop_iterations = 0;
+    const auto& traced = traced_variables();
+    const auto t_index = static_cast<std::size_t>(
+        std::find_if(traced.begin(), traced.end(), [](const auto& v) { return v.name == kLoopMarker.name; }) -
+        traced.begin());
+    tracer.set_sink([&](Cycles cycle, const std::vector<double>& values) {
+        row.clear();
+        fmt::format_to(std::back_inserter(row), "{},{},{:.7f}", tracer.iterations(), cycle,
+                       hil::cycles_to_s(cycle, core.clock_hz()));
+        for (double v : values) fmt::format_to(std::back_inserter(row), ",{:.9g}", v);
+        row.push_back('\n');
+        firmware_csv.write(row);
+        const double t = values[t_index];
+        if (t > last_t) {
+            ++loop_iterations;
+            if (have_last) {
+                period_sum += cycle - last_iteration_cycle;
+                ++period_count;
+            }
+            have_last = true;
+            last_iteration_cycle = cycle;
+        } else {
+            have_last = false;
+        }
+        last_t = t;
+    });
+    rig.coupler().set_boundary_hook([&](Cycles cycle) { tracer.poll(cycle); });
 
     hil::FirmwareReportParser parser(/*expects_eeprom_dump=*/options.test_case == 1);
     uart.set_listener([&](const hil::UartByte& b) {
@@ -96,8 +199,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         if (parser.error()) {
             core.request_stop();
         } else if (parser.complete()) {
-            // The report is sent when its last byte has left the wire.
-            core.stop_after(uart.cycles_per_byte());
+            core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
         }
     });
 
@@ -110,7 +212,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     };
 
     hil::RunStop stop = core.run_until_return_from(ready, limit);
-    if (stop == hil::RunStop::kCondition) {
+    if (stop == hil::RunStop::kCondition && rig.coupler().status() == plant::StepStatus::ok) {
         result.ready_cycle = core.cycle();
         progress("ready");
         uart.send(std::string(1, static_cast<char>('0' + options.test_case)));
@@ -127,45 +229,79 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     result.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     result.uart_text = uart.text();
-    result.eeprom = eeprom.read_all();
+    result.eeprom = rig.eeprom().read_all();
     result.report = parser.report();
     const double sim_s = hil::cycles_to_s(result.cycles_total, core.clock_hz());
-    switch (stop) {
-        case hil::RunStop::kCondition:
-            if (parser.error()) {
-                result.exit = RunExit::kReportMalformed;
-                result.message = *parser.error();
-            } else {
-                result.exit = RunExit::kReportComplete;
-            }
-            break;
-        case hil::RunStop::kCrashed:
-            result.exit = RunExit::kCrashed;
-            result.message = fmt::format("firmware crashed at PC 0x{:04x}, cycle {} (t = {:.6f} s)",
-                                         core.pc(), core.cycle(), sim_s);
-            break;
-        case hil::RunStop::kDone:
-            result.exit = RunExit::kSleepForever;
-            result.message = fmt::format(
-                "firmware went to sleep with interrupts off at PC 0x{:04x}, cycle {}", core.pc(),
-                core.cycle());
-            break;
-        case hil::RunStop::kReachedCycle:
-            result.exit = RunExit::kTimeout;
-            result.message =
-                result.ready_cycle
-                    ? fmt::format("timeout after {} simulated s: the firmware's report was not "
-                                  "complete (raise --seconds?)",
-                                  options.max_sim_seconds)
-                    : fmt::format("timeout after {} simulated s: the firmware never returned from "
-                                  "'{}', so the case byte was never sent",
-                                  options.max_sim_seconds, options.ready_symbol);
-            break;
+    if (rig.coupler().status() != plant::StepStatus::ok) {
+        result.exit = RunExit::kPlantFailed;
+        const plant::Pose& p = rig.robot().pose();
+        result.message = fmt::format("plant {} at t={:.6f} s (last finite pose x={:.6g} m, y={:.6g} m)",
+                                     plant::to_string(rig.coupler().status()),
+                                     rig.coupler().failed_at_s(), p.x_m, p.y_m);
+    } else {
+        switch (stop) {
+            case hil::RunStop::kCondition:
+                if (parser.error()) {
+                    result.exit = RunExit::kReportMalformed;
+                    result.message = *parser.error();
+                } else {
+                    result.exit = RunExit::kReportComplete;
+                }
+                break;
+            case hil::RunStop::kCrashed:
+                result.exit = RunExit::kCrashed;
+                result.message = fmt::format("firmware crashed at PC 0x{:04x}, cycle {} (t = {:.6f} s)",
+                                             core.pc(), core.cycle(), sim_s);
+                break;
+            case hil::RunStop::kDone:
+                result.exit = RunExit::kSleepForever;
+                result.message = fmt::format(
+                    "firmware went to sleep with interrupts off at PC 0x{:04x}, cycle {}", core.pc(),
+                    core.cycle());
+                break;
+            case hil::RunStop::kReachedCycle:
+                result.exit = RunExit::kTimeout;
+                result.message =
+                    result.ready_cycle
+                        ? fmt::format("timeout after {} simulated s: the firmware's report was not "
+                                      "complete (raise --seconds?)",
+                                      options.max_sim_seconds)
+                        : fmt::format("timeout after {} simulated s: the firmware never returned from "
+                                      "'{}', so the case byte was never sent",
+                                      options.max_sim_seconds, options.ready_symbol);
+                break;
+        }
     }
+
+    for (unsigned ch = 0; ch < 2; ++ch) result.encoder[ch] = rig.encoders().stats(ch);
+    result.end_pose_truth = rig.robot().pose();
+    const auto& vars = rig.variables();
+    result.end_pose_firmware = plant::Pose{vars.read("Ex", hil::VarType::kFloat),
+                                           vars.read("Ey", hil::VarType::kFloat),
+                                           vars.read("Theta", hil::VarType::kFloat)};
+    result.loop_iterations = loop_iterations;
+    if (period_count > 0) {
+        result.mean_loop_period_s =
+            hil::cycles_to_s(period_sum, core.clock_hz()) / static_cast<double>(period_count);
+    }
+    const hil::EepromLogTiming log_timing =
+        hil::eeprom_log_timing(rig.eeprom_timing().writes(), result.ready_cycle.value_or(0), core.clock_hz());
+    const auto log = hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s);
+    result.eeprom_log_samples = log.size();
 
     // --- Artifacts, each written atomically. ---
     const double mcycles_per_s =
         result.wall_seconds > 0 ? static_cast<double>(result.cycles_total) / result.wall_seconds / 1e6 : 0.0;
+    json encoder = json::object();
+    for (unsigned ch = 0; ch < 2; ++ch) {
+        const auto& s = result.encoder[ch];
+        encoder[fmt::format("channel{}", ch + 1)] = {
+            {"pin", config.board.encoder[ch].pin},
+            {"edges_injected", s.edges_injected},
+            {"isr_count", s.isr_count},
+            {"lost_edges", s.lost_edges},
+        };
+    }
     json summary = {
         {"firmware",
          {{"path", options.firmware.string()},
@@ -173,6 +309,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"flash_bytes", elf.memory_use().flash_bytes()},
           {"ram_bytes", elf.memory_use().ram_bytes()}}},
         {"case", options.test_case},
+        {"plant_file", options.plant_file ? options.plant_file->string() : "(embedded defaults)"},
+        {"pwm", options.pwm == plant::DriveMode::switched ? "switched" : "averaged"},
+        {"eeprom_timing", options.eeprom_timing == hil::EepromTimingMode::kDatasheet ? "datasheet" : "instant"},
+        {"coupling_step_cycles", options.coupling_step_cycles},
+        {"max_input_latency_cycles", rig.coupler().max_input_latency_cycles()},
         {"cycles_total", result.cycles_total},
         {"clock_hz", core.clock_hz()},
         {"sim_seconds", sim_s},
@@ -186,6 +327,14 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"cycles_per_byte", uart.cycles_per_byte()},
           {"timing", options.uart_timing == hil::UartTiming::kChip ? "chip" : "simavr"},
           {"bytes_not_delivered", uart.pending()}}},
+        {"encoder", encoder},
+        {"end_pose_truth", pose_json(result.end_pose_truth)},
+        {"end_pose_firmware", pose_json(*result.end_pose_firmware)},
+        {"loop_iterations", result.loop_iterations},
+        {"mean_loop_period_s", result.mean_loop_period_s},
+        {"eeprom_log_samples", result.eeprom_log_samples},
+        {"eeprom_writes", rig.eeprom_timing().writes().size()},
+        {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", report_json(result.report)},
         {"simavr_log",
          {{"errors", core.log().errors()},
@@ -196,6 +345,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     write_file_atomic(options.out_dir / "eeprom.bin",
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()),
                                        result.eeprom.size()));
+    write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
+    truth_csv.commit();
+    firmware_csv.commit();
     write_file_atomic(options.out_dir / "summary.json", summary.dump(2) + "\n");
     return result;
 }

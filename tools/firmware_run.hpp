@@ -5,20 +5,28 @@
 // artifacts atomically to the output folder.
 //
 // Outputs in `out_dir`:
-//   uart.txt      every byte the firmware sent, verbatim
-//   eeprom.bin    the 1024 EEPROM bytes at the end
-//   summary.json  firmware identity, cycle counts, timing, exit reason and the
-//                 parsed firmware report (see FirmwareReport)
+//   uart.txt        every byte the firmware sent, verbatim
+//   eeprom.bin      the 1024 EEPROM bytes at the end
+//   truth.csv       the plant's ground truth at 1 kHz of AVR time, and its drive
+//   firmware.csv    the firmware's globals once per control-loop iteration
+//   eeprom_log.csv  the firmware's EEPROM log, decoded (sample, t_s, x_m, y_m)
+//   summary.json    firmware identity, cycle counts, timing, exit reason, the
+//                   parsed firmware report, encoder counts and end poses
 
 #include <cstdint>
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
 
 #include "hil/avr_core.hpp"
 #include "hil/eeprom_port.hpp"
+#include "hil/eeprom_write_timing.hpp"
+#include "hil/encoder_injector.hpp"
 #include "hil/firmware_report.hpp"
 #include "hil/uart_link.hpp"
+#include "plant/diff_drive_kinematics.hpp"
+#include "plant/l298_driver.hpp"
 
 namespace ddmr::tools {
 
@@ -32,6 +40,11 @@ struct FirmwareRunOptions {
     std::string ready_symbol = "delay";
     std::optional<std::filesystem::path> eeprom_preload;  ///< 1024-byte image
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
+    std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML
+    std::optional<std::filesystem::path> board_file;  ///< board YAML (overrides the plant file's)
+    plant::DriveMode pwm = plant::DriveMode::switched;
+    hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
+    hil::Cycles coupling_step_cycles = 1000;  ///< plant step [cycles] = max input latency
     bool progress = false;                ///< one progress line per simulated second on stderr
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
 };
@@ -42,6 +55,7 @@ enum class RunExit {
     kCrashed,         ///< simavr stopped the CPU (PC past flash, bad access)
     kSleepForever,    ///< SLEEP with interrupts off
     kReportMalformed, ///< the firmware printed something the report parser rejects
+    kPlantFailed,     ///< the plant diverged (non-finite state) or overflowed
 };
 
 const char* to_string(RunExit exit);
@@ -55,6 +69,12 @@ struct FirmwareRunResult {
     std::string uart_text;
     hil::EepromImage eeprom{};
     hil::FirmwareReport report;
+    std::array<hil::EncoderChannelStats, 2> encoder{};
+    plant::Pose end_pose_truth{};
+    std::optional<plant::Pose> end_pose_firmware;  ///< Ex, Ey, Theta at the end
+    uint64_t loop_iterations = 0;
+    double mean_loop_period_s = 0.0;  ///< over the traced iterations
+    std::size_t eeprom_log_samples = 0;
 };
 
 /// Validates every input (throws std::runtime_error / std::invalid_argument

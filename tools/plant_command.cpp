@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
+#include "common/truth_csv.hpp"
 #include "exit_codes.hpp"
 #include "plant/params_yaml.hpp"
 #include "plant/pwm_waveform.hpp"
@@ -48,14 +49,8 @@ struct PlantOptions {
 
 constexpr std::int64_t kSampleCycles = pl::kCpuHz / 1000;  // 1 kHz rows
 
-void append_row(fmt::memory_buffer& csv, const pl::Robot& r) {
-    const pl::Pose& p = r.pose();
-    const pl::BodyVelocity b = r.body_velocity();
-    fmt::format_to(std::back_inserter(csv),
-                   "{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}\n",
-                   r.time_s(), p.x_m, p.y_m, p.theta_rad, b.v_m_s, b.omega_rad_s,
-                   r.motor_current_A(0), r.motor_current_A(1), r.wheel_speed_rad_s(0),
-                   r.wheel_speed_rad_s(1), r.battery_voltage_V(), r.edge_count(0), r.edge_count(1));
+void append_row(std::string& csv, const pl::Robot& r, std::int64_t cycle) {
+    append_truth_row(csv, hil::truth_sample_of(r, static_cast<hil::Cycles>(cycle)), /*with_drive=*/false);
 }
 
 int run_plant(const PlantOptions& o) {
@@ -89,11 +84,8 @@ int run_plant(const PlantOptions& o) {
     const std::int64_t end = pl::s_to_cycles(o.seconds);
     const std::int64_t half = end / 2;  // mean speeds over the second half
     std::array<double, pl::kMotorCount> angle_at_half{};
-    fmt::memory_buffer csv;
-    fmt::format_to(std::back_inserter(csv),
-                   "t_s,x_m,y_m,theta_rad,v_m_s,omega_rad_s,ia1_A,ia2_A,wheel1_rad_s,"
-                   "wheel2_rad_s,vbatt_V,edges1,edges2\n");
-    append_row(csv, robot);
+    std::string csv = truth_csv_header(/*with_drive=*/false);
+    append_row(csv, robot, 0);
     pl::EdgeBuffer edges;
     pl::StepStatus status = pl::StepStatus::ok;
     std::int64_t c = 0;
@@ -111,7 +103,7 @@ int run_plant(const PlantOptions& o) {
         if (c == half) {
             for (std::size_t m = 0; m < pl::kMotorCount; ++m) angle_at_half[m] = robot.motor_angle_rad(m);
         }
-        if (c % kSampleCycles == 0 || c == end) append_row(csv, robot);
+        if (c % kSampleCycles == 0 || c == end) append_row(csv, robot, c);
     }
 
     // --- outputs -------------------------------------------------------------
@@ -149,7 +141,7 @@ int run_plant(const PlantOptions& o) {
     j["charge_drawn_C"] = robot.charge_drawn_C();
     j["edges1"] = robot.edge_count(0);
     j["edges2"] = robot.edge_count(1);
-    write_file_atomic(out_dir / "plant.csv", std::string_view(csv.data(), csv.size()));
+    write_file_atomic(out_dir / "plant.csv", csv);
     write_file_atomic(out_dir / "summary.json", j.dump(2) + "\n");
     if (status != pl::StepStatus::ok) {
         fmt::print(stderr, "ddmr-hil plant: the plant stopped at t = {} s: {}\n", robot.time_s(),

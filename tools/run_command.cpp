@@ -16,6 +16,10 @@ struct RunCli {
     std::string out_dir;
     std::string eeprom_preload;
     std::string uart_timing = "chip";
+    std::string plant_file;
+    std::string board_file;
+    std::string pwm = "switched";
+    std::string eeprom_timing = "datasheet";
     bool quiet = false;
     bool progress = false;
 };
@@ -47,6 +51,22 @@ Subcommand register_run_command(CLI::App& app) {
                     "UART frame time: chip (datasheet, 8N1 = 10 bits) or simavr (1.6's 11 bits)")
         ->check(CLI::IsMember({"chip", "simavr"}))
         ->capture_default_str();
+    sub->add_option("--plant", cli->plant_file,
+                    "Plant parameter YAML (over the embedded defaults; may hold a board: section)");
+    sub->add_option("--board", cli->board_file, "Board wiring YAML (a board: section)");
+    sub->add_option("--pwm", cli->pwm,
+                    "Enable-pin model: switched (the 490 Hz waveform, edge by edge) or averaged (duty)")
+        ->check(CLI::IsMember({"switched", "averaged"}))
+        ->capture_default_str();
+    sub->add_option("--eeprom-timing", cli->eeprom_timing,
+                    "EEPROM writes take the datasheet's 3.3 ms (datasheet) or complete at once (instant, "
+                    "simavr 1.6)")
+        ->check(CLI::IsMember({"datasheet", "instant"}))
+        ->capture_default_str();
+    sub->add_option("--coupling-step", cli->options.coupling_step_cycles,
+                    "Plant step [AVR cycles]: the largest input latency; must divide 16000")
+        ->check(CLI::Range(1, 16000))
+        ->capture_default_str();
     sub->add_flag("--progress", cli->progress, "Print progress every simulated second (default when "
                                                "stderr is a terminal)");
     sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
@@ -57,6 +77,11 @@ Subcommand register_run_command(CLI::App& app) {
         o.out_dir = cli->out_dir.empty() ? "out/run-case" + std::to_string(o.test_case) : cli->out_dir;
         if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
+        if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
+        if (!cli->board_file.empty()) o.board_file = cli->board_file;
+        o.pwm = cli->pwm == "averaged" ? plant::DriveMode::averaged : plant::DriveMode::switched;
+        o.eeprom_timing = cli->eeprom_timing == "instant" ? hil::EepromTimingMode::kInstant
+                                                          : hil::EepromTimingMode::kDatasheet;
         o.progress = !cli->quiet && (cli->progress || ::isatty(STDERR_FILENO) != 0);
         const FirmwareRunResult r = run_firmware(o);
         const double sim_s = hil::cycles_to_s(r.cycles_total);
@@ -73,6 +98,12 @@ Subcommand register_run_command(CLI::App& app) {
                     "theta %.4f rad, %zu EEPROM points\n",
                     rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
                     rep.ey.value_or(0), rep.theta.value_or(0), rep.eeprom_pairs.size());
+        std::printf("plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; %llu loop iterations, "
+                    "mean period %.3f ms; lost encoder edges %llu / %llu\n",
+                    r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
+                    static_cast<unsigned long long>(r.loop_iterations), r.mean_loop_period_s * 1e3,
+                    static_cast<unsigned long long>(r.encoder[0].lost_edges),
+                    static_cast<unsigned long long>(r.encoder[1].lost_edges));
         return kExitOk;
     }};
 }

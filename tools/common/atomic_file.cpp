@@ -50,6 +50,33 @@ void write_file_atomic(const fs::path& path, std::string_view content) {
     }
 }
 
+AtomicFileWriter::AtomicFileWriter(fs::path path) : path_(std::move(path)) {
+    tmp_ = path_;
+    tmp_ += ".tmp-" + std::to_string(::getpid());
+    file_ = std::fopen(tmp_.c_str(), "wb");
+    if (file_ == nullptr) fail(path_, "open", errno);
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+    if (file_ != nullptr) std::fclose(file_);
+    if (!committed_) ::unlink(tmp_.c_str());
+}
+
+void AtomicFileWriter::write(std::string_view bytes) noexcept {
+    if (error_ != 0 || file_ == nullptr || bytes.empty()) return;
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) error_ = errno != 0 ? errno : EIO;
+}
+
+void AtomicFileWriter::commit() {
+    if (error_ != 0) fail(path_, "write", error_);
+    if (std::fflush(file_) != 0 || ::fsync(::fileno(file_)) != 0) fail(path_, "sync", errno);
+    const int rc = std::fclose(file_);
+    file_ = nullptr;
+    if (rc != 0) fail(path_, "close", errno);
+    if (::rename(tmp_.c_str(), path_.c_str()) != 0) fail(path_, "rename", errno);
+    committed_ = true;
+}
+
 void prepare_output_dir(const fs::path& dir) {
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {

@@ -1,0 +1,95 @@
+#include "hil/eeprom_write_timing.hpp"
+
+#include <sim_avr.h>
+#include <sim_cycle_timers.h>
+#include <sim_io.h>
+#include <sim_irq.h>
+
+#include <stdexcept>
+#include <type_traits>
+
+namespace ddmr::hil {
+namespace {
+
+static_assert(std::is_same_v<avr_cycle_count_t, uint64_t>,
+              "on_write_done is declared with uint64_t for simavr's avr_cycle_count_t");
+
+constexpr uint8_t bit_mask(int bit) { return static_cast<uint8_t>(1U << bit); }
+constexpr uint8_t kEepe = bit_mask(atmega328p::eecr_bit::kEepe);
+constexpr uint8_t kEempe = bit_mask(atmega328p::eecr_bit::kEempe);
+/// EEAR is 10 bits on the ATmega328P (datasheet 8.6.1); simavr wraps an
+/// address past the end the same way.
+constexpr uint16_t kEearMask = atmega328p::kEepromBytes - 1;
+static_assert((atmega328p::kEepromBytes & kEearMask) == 0, "EEPROM size is a power of two");
+
+}  // namespace
+
+EepromWriteTiming::EepromWriteTiming(AvrCore& core, EepromTimingMode mode)
+    : core_(core),
+      mode_(mode),
+      write_cycles_(mode == EepromTimingMode::kDatasheet ? eeprom_write_cycles(core.clock_hz()) : 0) {
+    writes_.reserve(kReservedWrites);
+    eecr_irq_ = avr_iomem_getirq(core_.raw(), atmega328p::reg::kEecr, nullptr, AVR_IOMEM_IRQ_ALL);
+    if (eecr_irq_ == nullptr) throw std::runtime_error("simavr has no IRQ for EECR");
+    avr_irq_register_notify(eecr_irq_, &EepromWriteTiming::on_eecr, this);
+}
+
+EepromWriteTiming::~EepromWriteTiming() {
+    avr_irq_unregister_notify(eecr_irq_, &EepromWriteTiming::on_eecr, this);
+    avr_cycle_timer_cancel(core_.raw(), &EepromWriteTiming::on_write_done, this);
+    if (busy_) release_eepe();
+}
+
+void EepromWriteTiming::on_eecr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
+    auto* self = static_cast<EepromWriteTiming*>(param);
+    const auto written = static_cast<uint8_t>(value);
+    const uint8_t now = self->core_.raw()->data[atmega328p::reg::kEecr];
+    if ((written & (kEempe | kEepe)) == (kEempe | kEepe) && (now & kEempe) == 0) {
+        self->start_write();
+    } else if (self->busy_) {
+        // simavr clears EEPE at the end of every EECR write (an EERE read, an
+        // EEMPE arming): while programming, the chip keeps it set.
+        self->hold_eepe();
+    }
+}
+
+void EepromWriteTiming::start_write() {
+    const avr_t* avr = core_.raw();
+    const Cycles now = avr->cycle;
+    EepromWrite w;
+    w.cycle = now;
+    w.address = static_cast<uint16_t>(
+        (avr->data[atmega328p::reg::kEearL] | (avr->data[atmega328p::reg::kEearH] << 8)) & kEearMask);
+    w.value = avr->data[atmega328p::reg::kEedr];
+    writes_.push_back(w);  // within the reserve, or amortised growth
+
+    if (mode_ == EepromTimingMode::kDatasheet) {
+        if (busy_) {
+            // Restarted before the previous write completed: count its time so far.
+            busy_cycles_total_ += now - busy_since_;
+            avr_cycle_timer_cancel(core_.raw(), &EepromWriteTiming::on_write_done, this);
+        }
+        busy_ = true;
+        busy_since_ = now;
+        hold_eepe();
+        avr_cycle_timer_register(core_.raw(), write_cycles_, &EepromWriteTiming::on_write_done, this);
+    }
+    if (listener_) listener_(writes_.back());
+}
+
+uint64_t EepromWriteTiming::on_write_done(avr_t* /*avr*/, uint64_t when, void* param) {
+    auto* self = static_cast<EepromWriteTiming*>(param);
+    self->busy_cycles_total_ += when - self->busy_since_;
+    self->busy_ = false;
+    self->release_eepe();
+    return 0;  // one-shot
+}
+
+void EepromWriteTiming::hold_eepe() { core_.raw()->data[atmega328p::reg::kEecr] |= kEepe; }
+
+void EepromWriteTiming::release_eepe() {
+    uint8_t& eecr = core_.raw()->data[atmega328p::reg::kEecr];
+    eecr = static_cast<uint8_t>(eecr & ~kEepe);
+}
+
+}  // namespace ddmr::hil

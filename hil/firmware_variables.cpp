@@ -1,0 +1,113 @@
+#include "hil/firmware_variables.hpp"
+
+#include <limits>
+
+#include "hil/atmega328p.hpp"
+
+namespace ddmr::hil {
+namespace {
+
+struct TypeName {
+    const char* name;
+    VarType type;
+};
+constexpr TypeName kTypeNames[] = {
+    {"int8", VarType::kInt8},   {"uint8", VarType::kUint8},   {"int16", VarType::kInt16},
+    {"uint16", VarType::kUint16}, {"int32", VarType::kInt32}, {"uint32", VarType::kUint32},
+    {"float", VarType::kFloat},
+};
+
+}  // namespace
+
+VarType parse_var_type(std::string_view text) {
+    for (const auto& t : kTypeNames) {
+        if (text == t.name) return t.type;
+    }
+    if (text == "double") return VarType::kFloat;  // avr-gcc's double is binary32
+    throw std::invalid_argument("variable type '" + std::string(text) +
+                                "': expected int8, uint8, int16, uint16, int32, uint32 or float");
+}
+
+const char* to_string(VarType type) {
+    for (const auto& t : kTypeNames) {
+        if (t.type == type) return t.name;
+    }
+    return "unknown";
+}
+
+std::size_t var_type_size(VarType type) {
+    switch (type) {
+        case VarType::kInt8:
+        case VarType::kUint8: return 1;
+        case VarType::kInt16:
+        case VarType::kUint16: return 2;
+        case VarType::kInt32:
+        case VarType::kUint32:
+        case VarType::kFloat: return 4;
+    }
+    return 0;
+}
+
+double decode_var(VarType type, const std::array<uint8_t, 4>& bytes) {
+    switch (type) {
+        case VarType::kInt8: return decode_le<int8_t>(bytes);
+        case VarType::kUint8: return decode_le<uint8_t>(bytes);
+        case VarType::kInt16: return decode_le<int16_t>(bytes);
+        case VarType::kUint16: return decode_le<uint16_t>(bytes);
+        case VarType::kInt32: return decode_le<int32_t>(bytes);
+        case VarType::kUint32: return decode_le<uint32_t>(bytes);
+        case VarType::kFloat: return static_cast<double>(decode_le<float>(bytes));
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+}
+
+Variable FirmwareVariables::lookup(const std::string& name, VarType type) const {
+    const std::string where = "firmware " + elf_.path().string() + ": ";
+    const auto sym = elf_.find(name);
+    if (!sym) {
+        throw std::runtime_error(where + "no symbol '" + name +
+                                 "' (not a global, or folded away by LTO)");
+    }
+    if (!sym->is_object) {
+        throw std::runtime_error(where + "symbol '" + name + "' is " +
+                                 (sym->is_function ? "a function" : "not a data object") +
+                                 ", not a variable");
+    }
+    const std::size_t want = var_type_size(type);
+    if (sym->size != want) {
+        throw std::runtime_error(where + "variable '" + name + "' is " + std::to_string(sym->size) +
+                                 " bytes; " + to_string(type) + " is " + std::to_string(want));
+    }
+    // Globals live in SRAM (datasheet 8.3, "SRAM Data Memory"): from the end of
+    // the extended I/O space to RAMEND. Reading there never throws later.
+    if (sym->address < atmega328p::kSramStart || sym->address + want - 1 > atmega328p::kRamEnd) {
+        throw std::runtime_error(where + "variable '" + name + "' at data address " +
+                                 std::to_string(sym->address) + " is not in SRAM");
+    }
+    return Variable{name, static_cast<uint16_t>(sym->address), static_cast<uint8_t>(want), type};
+}
+
+namespace {
+
+/// What lookup() guarantees; checked again so that a hand-made Variable can
+/// neither read outside SRAM nor make AvrCore::data throw.
+bool valid(const Variable& var) {
+    return var.size == var_type_size(var.type) && var.address >= atmega328p::kSramStart &&
+           var.address + var.size - 1U <= atmega328p::kRamEnd;
+}
+
+}  // namespace
+
+std::array<uint8_t, 4> FirmwareVariables::raw_bytes(const Variable& var) const noexcept {
+    std::array<uint8_t, 4> b{};
+    if (!valid(var)) return b;
+    for (uint8_t i = 0; i < var.size; ++i) b[i] = core_.data(static_cast<uint16_t>(var.address + i));
+    return b;
+}
+
+double FirmwareVariables::read(const Variable& var) const noexcept {
+    if (!valid(var)) return std::numeric_limits<double>::quiet_NaN();
+    return decode_var(var.type, raw_bytes(var));
+}
+
+}  // namespace ddmr::hil

@@ -1,0 +1,117 @@
+#include "hil/plant_coupler.hpp"
+
+#include <sim_avr.h>
+#include <sim_cycle_timers.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ddmr::hil {
+
+PlantCoupler::PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader& reader,
+                           EncoderInjector& injector, const CouplerConfig& config)
+    : core_(core), robot_(robot), reader_(reader), injector_(injector), config_(config) {
+    if (config_.step_cycles == 0) throw std::invalid_argument("coupling step must be >= 1 cycle");
+    if (config_.truth_period_cycles == 0 || config_.truth_period_cycles % config_.step_cycles != 0) {
+        throw std::invalid_argument("ground-truth period " + std::to_string(config_.truth_period_cycles) +
+                                    " cycles is not a positive multiple of the coupling step " +
+                                    std::to_string(config_.step_cycles));
+    }
+    start_cycle_ = core_.cycle();
+    avr_cycle_timer_register(core_.raw(), 0, &PlantCoupler::on_step, this);
+}
+
+uint64_t PlantCoupler::on_step(struct avr_t* /*avr*/, uint64_t when, void* param) {
+    auto* self = static_cast<PlantCoupler*>(param);
+    self->step(when);
+    if (self->status_ != plant::StepStatus::ok) return 0;
+    return when + self->config_.step_cycles;
+}
+
+void PlantCoupler::step(Cycles boundary) {
+    reader_.advance_to(boundary);
+    if (const auto change = reader_.take_first_change()) {
+        max_latency_ = std::max(max_latency_, boundary > *change ? boundary - *change : 0);
+    }
+    plant::RobotInput input;
+    input.mode = config_.mode;
+    for (std::size_t m = 0; m < 2; ++m) {
+        const BridgeDrive& d = reader_.drive(m);
+        input.bridge[m].forward = d.forward;
+        input.bridge[m].duty = d.duty();
+        input.bridge[m].enable = d.enable_level_at(boundary);
+    }
+    if ((boundary - start_cycle_) % config_.truth_period_cycles == 0) sample_truth(boundary, input);
+    advance(boundary, boundary + config_.step_cycles, input);
+    ++steps_;
+    if (hook_) hook_(boundary);
+}
+
+void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
+    Cycles t = from;
+    while (t < to) {
+        Cycles next = to;
+        if (config_.mode == plant::DriveMode::switched) {
+            for (std::size_t m = 0; m < 2; ++m) {
+                const BridgeDrive& d = reader_.drive(m);
+                input.bridge[m].enable = d.enable_level_at(t);
+                next = std::min(next, d.next_enable_edge_after(t));
+            }
+        }
+        robot_.set_input(input);
+        edges_.clear();
+        const plant::StepResult r = robot_.step(cycles_to_s(next - t, core_.clock_hz()), edges_);
+        ++plant_steps_;
+        for (const plant::EncoderEdge& e : edges_) {
+            // Plant time is AVR time (both start at reset); never in the past.
+            const auto c = static_cast<Cycles>(std::llround(e.t_s * static_cast<double>(core_.clock_hz())));
+            injector_.schedule(e.channel, std::max(c, t), e.level);
+        }
+        if (r.status != plant::StepStatus::ok) {
+            status_ = r.status;
+            failed_at_s_ = r.t_s;
+            core_.request_stop();
+            return;
+        }
+        t = next;
+    }
+}
+
+void PlantCoupler::sample_truth(Cycles boundary, const plant::RobotInput& input) {
+    if (!sink_) return;
+    TruthSample s = truth_sample_of(robot_, boundary);
+    s.t_s = cycles_to_s(boundary, core_.clock_hz());  // AVR time
+    s.duty1 = input.bridge[0].duty;  // the drive of the interval that starts here
+    s.duty2 = input.bridge[1].duty;
+    s.dir1 = input.bridge[0].forward;
+    s.dir2 = input.bridge[1].forward;
+    sink_(s);
+}
+
+TruthSample truth_sample_of(const plant::Robot& robot, Cycles cycle) {
+    TruthSample s;
+    s.cycle = cycle;
+    s.t_s = robot.time_s();
+    const plant::Pose& p = robot.pose();
+    s.x_m = p.x_m;
+    s.y_m = p.y_m;
+    s.theta_rad = p.theta_rad;
+    const plant::BodyVelocity v = robot.body_velocity();
+    s.v_m_s = v.v_m_s;
+    s.omega_rad_s = v.omega_rad_s;
+    s.ia1_A = robot.motor_current_A(0);
+    s.ia2_A = robot.motor_current_A(1);
+    s.wheel1_rad_s = robot.wheel_speed_rad_s(0);
+    s.wheel2_rad_s = robot.wheel_speed_rad_s(1);
+    s.vbatt_V = robot.battery_voltage_V();
+    s.edges1 = robot.edge_count(0);
+    s.edges2 = robot.edge_count(1);
+    s.duty1 = robot.input().bridge[0].duty;
+    s.duty2 = robot.input().bridge[1].duty;
+    s.dir1 = robot.input().bridge[0].forward;
+    s.dir2 = robot.input().bridge[1].forward;
+    return s;
+}
+
+}  // namespace ddmr::hil

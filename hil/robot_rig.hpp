@@ -1,0 +1,72 @@
+#pragma once
+// RobotRig: the Uno, the L298 shield and the robot wired together, the
+// "board" that connects the parts to one AvrCore:
+//
+//   UartLink          USART0 <-> host (case bytes in, report out)
+//   EepromPort        EEPROM contents (preload, read back)
+//   EepromWriteTiming EEPE held for the datasheet write time (or simavr's instant writes)
+//   MotorDriverReader timer/port registers => bridge drive (pins per BoardWiring)
+//   plant::Robot      motors, driver, battery, encoders, kinematics
+//   PlantCoupler      steps the plant in lockstep, one step ahead of the AVR
+//   EncoderInjector   plant edges => encoder pins at their exact cycles
+//   FirmwareVariables globals by ELF symbol
+//
+// Construction validates the configuration (throws with the bad value).
+
+#include <memory>
+
+#include "hil/avr_core.hpp"
+#include "hil/board.hpp"
+#include "hil/eeprom_port.hpp"
+#include "hil/eeprom_write_timing.hpp"
+#include "hil/elf_image.hpp"
+#include "hil/encoder_injector.hpp"
+#include "hil/firmware_variables.hpp"
+#include "hil/motor_driver_reader.hpp"
+#include "hil/plant_coupler.hpp"
+#include "hil/uart_link.hpp"
+#include "plant/robot.hpp"
+#include "plant/robot_params.hpp"
+
+namespace ddmr::hil {
+
+struct RigConfig {
+    plant::RobotParams plant = plant::default_robot_params();
+    BoardWiring board = uno_default_board();
+    CouplerConfig coupler{};
+    EepromTimingMode eeprom_timing = EepromTimingMode::kDatasheet;
+    UartTiming uart_timing = UartTiming::kChip;
+    AvrCoreConfig core{};
+};
+
+class RobotRig {
+public:
+    RobotRig(const ElfImage& elf, const RigConfig& config);
+    RobotRig(const RobotRig&) = delete;
+    RobotRig& operator=(const RobotRig&) = delete;
+
+    AvrCore& core() { return core_; }
+    UartLink& uart() { return uart_; }
+    EepromPort& eeprom() { return eeprom_; }
+    EepromWriteTiming& eeprom_timing() { return eeprom_timing_; }
+    MotorDriverReader& driver() { return driver_; }
+    EncoderInjector& encoders() { return encoders_; }
+    plant::Robot& robot() { return robot_; }
+    PlantCoupler& coupler() { return coupler_; }
+    FirmwareVariables& variables() { return variables_; }
+    const RigConfig& config() const { return config_; }
+
+private:
+    RigConfig config_;
+    AvrCore core_;
+    UartLink uart_;
+    EepromPort eeprom_;
+    EepromWriteTiming eeprom_timing_;
+    MotorDriverReader driver_;
+    EncoderInjector encoders_;
+    plant::Robot robot_;
+    PlantCoupler coupler_;
+    FirmwareVariables variables_;
+};
+
+}  // namespace ddmr::hil
