@@ -191,10 +191,21 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     });
     rig.coupler().set_boundary_hook([&](Cycles cycle) { tracer.poll(cycle); });
 
+    FirmwareRunResult result;
     hil::FirmwareReportParser parser(/*expects_eeprom_dump=*/options.test_case == 1);
+    // The firmware's end pose is read as it sends "END": right after, the
+    // sketch reuses Ex/Ey to print the EEPROM log and then zeroes them.
+    const hil::Variable ex = rig.variables().lookup("Ex", hil::VarType::kFloat);
+    const hil::Variable ey = rig.variables().lookup("Ey", hil::VarType::kFloat);
+    const hil::Variable theta = rig.variables().lookup("Theta", hil::VarType::kFloat);
     uart.set_listener([&](const hil::UartByte& b) {
         const bool was_done = parser.complete() || parser.error().has_value();
+        const bool had_ended = parser.report().ended;
         parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
+        if (!had_ended && parser.report().ended) {
+            const auto& vars = rig.variables();
+            result.end_pose_firmware = plant::Pose{vars.read(ex), vars.read(ey), vars.read(theta)};
+        }
         if (was_done) return;
         if (parser.error()) {
             core.request_stop();
@@ -203,7 +214,6 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     });
 
-    FirmwareRunResult result;
     const Cycles limit = hil::s_to_cycles(options.max_sim_seconds, core.clock_hz());
     const auto progress = [&](const char* phase) {
         if (!options.progress) return;
@@ -275,10 +285,6 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
 
     for (unsigned ch = 0; ch < 2; ++ch) result.encoder[ch] = rig.encoders().stats(ch);
     result.end_pose_truth = rig.robot().pose();
-    const auto& vars = rig.variables();
-    result.end_pose_firmware = plant::Pose{vars.read("Ex", hil::VarType::kFloat),
-                                           vars.read("Ey", hil::VarType::kFloat),
-                                           vars.read("Theta", hil::VarType::kFloat)};
     result.loop_iterations = loop_iterations;
     if (period_count > 0) {
         result.mean_loop_period_s =
@@ -329,7 +335,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"bytes_not_delivered", uart.pending()}}},
         {"encoder", encoder},
         {"end_pose_truth", pose_json(result.end_pose_truth)},
-        {"end_pose_firmware", pose_json(*result.end_pose_firmware)},
+        {"end_pose_firmware", result.end_pose_firmware ? pose_json(*result.end_pose_firmware) : json(nullptr)},
         {"loop_iterations", result.loop_iterations},
         {"mean_loop_period_s", result.mean_loop_period_s},
         {"eeprom_log_samples", result.eeprom_log_samples},

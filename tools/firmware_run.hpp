@@ -71,7 +71,7 @@ struct FirmwareRunResult {
     hil::FirmwareReport report;
     std::array<hil::EncoderChannelStats, 2> encoder{};
     plant::Pose end_pose_truth{};
-    std::optional<plant::Pose> end_pose_firmware;  ///< Ex, Ey, Theta at the end
+    std::optional<plant::Pose> end_pose_firmware;  ///< Ex, Ey, Theta as "END" is sent
     uint64_t loop_iterations = 0;
     double mean_loop_period_s = 0.0;  ///< over the traced iterations
     std::size_t eeprom_log_samples = 0;

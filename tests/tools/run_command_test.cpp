@@ -53,9 +53,11 @@ TEST(RunCommand, Case1WritesUartEepromAndSummary) {
         const json& e = s["encoder"][ch];
         EXPECT_GE(e["edges_injected"].get<int>(), e["isr_count"].get<int>() + e["lost_edges"].get<int>());
     }
-    for (const char* k : {"end_pose_truth", "end_pose_firmware"}) {
-        EXPECT_TRUE(s[k].contains("x_m")) << k;
-    }
+    // The firmware's end pose is its Ex, Ey, Theta as it prints them (4 decimals).
+    EXPECT_NEAR(s["end_pose_firmware"]["x_m"].get<double>(), rep["ex"].get<double>(), 5e-5);
+    EXPECT_NEAR(s["end_pose_firmware"]["y_m"].get<double>(), rep["ey"].get<double>(), 5e-5);
+    EXPECT_NEAR(s["end_pose_firmware"]["theta_rad"].get<double>(), rep["theta"].get<double>(), 5e-5);
+    EXPECT_TRUE(s["end_pose_truth"].contains("x_m"));
     // 1 kHz of truth over ~19.6 s, one firmware row per iteration, 120 log rows.
     const auto lines = [](const std::string& t) { return std::count(t.begin(), t.end(), '\n'); };
     EXPECT_GT(lines(read_text(out / "truth.csv")), 19000);

@@ -1,0 +1,139 @@
+// HIL speed against bare simavr, measured side by side in one process on the
+// same firmware (issue 4's performance goal; issue 8 extends it).
+//
+//   BareSimavrDefaultLoop : the reference ELF, '1' sent after setup(), PD2/PD3
+//                           toggled every 6000 cycles (about the robot's edge
+//                           rate), no plant, one avr_run per instruction (how
+//                           simavr runs by default: run_cycle_limit = 1)
+//   FullHilCase1          : RobotRig defaults: switched PWM, encoders,
+//                           datasheet EEPROM timing, ground truth sampled
+//
+// Each runs boot + case 1 to the end of its report (~19.6 simulated s); the
+// figure is simulated Mcycles per wall second, repeated for a median. The
+// program then prints the ratio of the medians and writes them as JSON
+// (--ratio_out FILE, default build/bench/hil_ratio.json).
+#include <benchmark/benchmark.h>
+#include <avr_ioport.h>
+#include <sim_avr.h>
+#include <sim_cycle_timers.h>
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "hil/firmware_report.hpp"
+#include "hil/robot_rig.hpp"
+#include "hil/uart_link.hpp"
+
+namespace {
+
+using namespace ddmr;
+using hil::Cycles;
+
+constexpr double kSimulatedS = 19.6;  // boot (5 s) + 12 s loop + report
+
+struct Toggler {
+    hil::AvrCore* core;
+    avr_irq_t* pd2;
+    avr_irq_t* pd3;
+    bool level = false;
+};
+
+uint64_t toggle(avr_t* /*avr*/, uint64_t when, void* param) {
+    auto* t = static_cast<Toggler*>(param);
+    t->level = !t->level;
+    avr_raise_irq(t->pd2, t->level ? 1 : 0);
+    avr_raise_irq(t->pd3, t->level ? 1 : 0);
+    return when + 6000;
+}
+
+void BM_BareSimavrDefaultLoop(benchmark::State& state) {
+    const auto elf = hil::ElfImage::read(DDMR_BENCH_FIRMWARE_ELF);
+    Cycles cycles = 0;
+    for (auto _ : state) {
+        hil::AvrCoreConfig config;
+        config.run_cycle_limit = 1;  // simavr's default: one instruction per avr_run
+        hil::AvrCore core(elf, config);
+        hil::UartLink uart(core);
+        uart.send("1");  // waits in the FIFO until Serial.begin, read after setup()
+        avr_t* avr = core.raw();
+        Toggler t{&core, avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ('D')), 2),
+                  avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ('D')), 3)};
+        avr_cycle_timer_register(avr, 6000, &toggle, &t);
+        const Cycles end = hil::s_to_cycles(kSimulatedS);
+        while (avr->cycle < end) {
+            const int s = avr_run(avr);
+            if (s == cpu_Done || s == cpu_Crashed) break;
+        }
+        cycles += avr->cycle;
+    }
+    state.counters["Mcycles_per_s"] = benchmark::Counter(static_cast<double>(cycles) / 1e6,
+                                                         benchmark::Counter::kIsRate);
+}
+
+void BM_FullHilCase1(benchmark::State& state) {
+    const auto elf = hil::ElfImage::read(DDMR_BENCH_FIRMWARE_ELF);
+    Cycles cycles = 0;
+    for (auto _ : state) {
+        hil::RobotRig rig(elf, hil::RigConfig{});
+        uint64_t rows = 0;
+        rig.coupler().set_truth_sink([&](const hil::TruthSample&) { ++rows; });
+        hil::FirmwareReportParser parser(true);
+        rig.uart().set_listener([&](const hil::UartByte& b) {
+            parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
+            if (parser.complete()) rig.core().request_stop();
+        });
+        const Cycles limit = hil::s_to_cycles(40.0);
+        rig.core().run_until_return_from(elf.require("delay"), limit);
+        rig.uart().send("1");
+        rig.core().run_until(limit);
+        if (!parser.complete()) state.SkipWithError("case 1 did not complete");
+        benchmark::DoNotOptimize(rows);
+        cycles += rig.core().cycle();
+    }
+    state.counters["Mcycles_per_s"] = benchmark::Counter(static_cast<double>(cycles) / 1e6,
+                                                         benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(BM_BareSimavrDefaultLoop)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_FullHilCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+
+/// Keeps the median Mcycles/s of each benchmark while printing as usual.
+class MedianCollector : public benchmark::ConsoleReporter {
+public:
+    std::map<std::string, double> medians;
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& r : runs) {
+            if (r.run_type == Run::RT_Aggregate && r.aggregate_name == "median") {
+                const auto it = r.counters.find("Mcycles_per_s");
+                if (it != r.counters.end()) medians[r.run_name.function_name] = it->second.value;
+            }
+        }
+        ConsoleReporter::ReportRuns(runs);
+    }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string ratio_out = "build/bench/hil_ratio.json";
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a.rfind("--ratio_out=", 0) == 0) ratio_out = a.substr(12);
+    }
+    benchmark::Initialize(&argc, argv);
+    MedianCollector reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    benchmark::Shutdown();
+    const double bare = reporter.medians["BM_BareSimavrDefaultLoop"];
+    const double hil = reporter.medians["BM_FullHilCase1"];
+    if (bare > 0 && hil > 0) {
+        std::printf("\nmedian Mcycles/s: bare simavr (default loop) %.1f, full HIL %.1f, ratio HIL/bare %.2f\n",
+                    bare, hil, hil / bare);
+        std::ofstream(ratio_out) << "{\n  \"bare_default_loop_mcycles_per_s\": " << bare
+                                 << ",\n  \"full_hil_mcycles_per_s\": " << hil
+                                 << ",\n  \"ratio_hil_over_bare\": " << hil / bare << "\n}\n";
+    }
+    return 0;
+}
