@@ -30,9 +30,16 @@ configure: deps $(BUILD)/CMakeCache.txt
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
+# The HIL run, its comparison with the host simulation (exit 1 = beyond
+# tolerance: reported, the report is still written; 2 = error: stop), and the
+# report with its plots.
 run: build
 	./$(BUILD)/ddmr-hil run --case $(CASE) --out $(OUT)
-	@echo "report: $(OUT)/summary.json, $(OUT)/uart.txt, $(OUT)/eeprom.bin"
+	@rc=0; ./$(BUILD)/ddmr-hil compare $(OUT) || rc=$$?; \
+	    if [ $$rc -gt 1 ]; then exit $$rc; fi; \
+	    if [ $$rc -eq 1 ]; then echo "compare: the firmware log is beyond tolerance of the simulation (see $(OUT)/compare.json)"; fi
+	/usr/bin/python3 tools/report/make_report.py $(OUT)
+	@echo "report: $(OUT)/report.md (plots beside it; summary.json, compare.json, truth.csv, firmware.csv, eeprom_log.csv, uart.txt)"
 
 # Every test, then every test again under AddressSanitizer + UBSan +
 # LeakSanitizer in a separate build tree.
@@ -58,6 +65,8 @@ bench: build
 	    --benchmark_out_format=json
 	./$(BUILD)/tests/bench/ddmr_hil_bench --benchmark_out=$(BUILD)/bench/hil.json \
 	    --benchmark_out_format=json --ratio_out=$(BUILD)/bench/hil_ratio.json
+	./$(BUILD)/tests/bench/ddmr_sim_bench --benchmark_out=$(BUILD)/bench/sim.json \
+	    --benchmark_out_format=json
 
 clean:
 	rm -rf $(BUILD) $(BUILD_ASAN) out

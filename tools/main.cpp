@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "exit_codes.hpp"
+#include "compare_command.hpp"
 #include "plant_command.hpp"
 #include "run_command.hpp"
+#include "sim_command.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"ddmr-hil: run the unmodified differential-drive robot firmware in simavr, "
@@ -18,7 +20,9 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "ddmr-hil 0.1.0");
     const std::vector<ddmr::tools::Subcommand> subcommands = {
         ddmr::tools::register_run_command(app),
+        ddmr::tools::register_compare_command(app),
         ddmr::tools::register_plant_command(app),
+        ddmr::tools::register_sim_command(app),
     };
     try {
         app.parse(argc, argv);

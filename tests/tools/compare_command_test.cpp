@@ -1,0 +1,96 @@
+// `ddmr-hil compare`: a real run against the host simulation, a distorted
+// log that must fail, and bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
+
+#include "support/process.hpp"
+#include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+using nlohmann::json;
+
+std::string cli() { return sh_quote(cli_path().string()); }
+
+/// One case-1 run shared by the tests of this process.
+const std::filesystem::path& case1_run() {
+    static TempDir dir;
+    static const std::filesystem::path out = [] {
+        const auto p = dir / "run";
+        const auto r = run_command(cli() + " run --case 1 -q --out " + sh_quote(p.string()));
+        if (r.exit_code != 0) ADD_FAILURE() << r.err;
+        return p;
+    }();
+    return out;
+}
+
+TEST(CompareCommand, Case1AgainstTheFirmwareModel) {
+    const auto& run = case1_run();
+    const auto r = run_command(cli() + " compare " + sh_quote(run.string()) + " --tolerance-m 0.2");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json c = json::parse(read_text(run / "compare.json"));
+    for (const char* pair : {"log_vs_truth", "log_vs_sim", "truth_vs_sim"}) {
+        const json& m = c["pairs"][pair];
+        EXPECT_EQ(m["samples"], 120) << pair;
+        for (const char* k : {"rms_m", "max_m", "endpoint_m", "endpoint_pct"}) EXPECT_TRUE(m[k].is_number()) << pair << k;
+        EXPECT_LE(m["rms_m"].get<double>(), m["max_m"].get<double>()) << pair;
+    }
+    // The firmware's dead reckoning against the plant it steered: within 0.1 m
+    // (the closed-loop tests' bound).
+    EXPECT_LT(c["pairs"]["log_vs_truth"]["rms_m"].get<double>(), 0.10);
+    // One attribution row per switch plus the firmware model.
+    EXPECT_GE(c["attribution"].size(), 6u);
+    EXPECT_EQ(c["attribution"].back()["switch"], "all (firmware model)");
+    EXPECT_TRUE(std::filesystem::exists(run / "sim.csv"));
+}
+
+TEST(CompareCommand, DistortedLogFails) {
+    const auto& run = case1_run();
+    TempDir dir;
+    const auto copy = dir / "distorted";
+    std::filesystem::copy(run, copy);
+    // Shift every logged x by 0.3 m: far outside a 0.05 m tolerance.
+    std::ifstream in(copy / "eeprom_log.csv");
+    std::ostringstream out;
+    std::string line;
+    std::getline(in, line);
+    out << line << "\n";
+    while (std::getline(in, line)) {
+        std::stringstream ss(line);
+        std::string sample, t, x, y;
+        std::getline(ss, sample, ',');
+        std::getline(ss, t, ',');
+        std::getline(ss, x, ',');
+        std::getline(ss, y, ',');
+        out << sample << "," << t << "," << std::stod(x) + 0.3 << "," << y << "\n";
+    }
+    in.close();
+    std::ofstream(copy / "eeprom_log.csv") << out.str();
+    const auto r = run_command(cli() + " compare " + sh_quote(copy.string()) + " --tolerance-m 0.05");
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const json c = json::parse(read_text(copy / "compare.json"));
+    EXPECT_FALSE(c["pass"].get<bool>());
+    EXPECT_GT(c["pairs"]["log_vs_truth"]["rms_m"].get<double>(), 0.25);
+}
+
+TEST(CompareCommand, MissingRunFolderIsAnError) {
+    TempDir dir;
+    const auto r = run_command(cli() + " compare " + sh_quote((dir / "nothing").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("summary.json"), std::string::npos) << r.err;
+}
+
+TEST(CompareCommand, BadToleranceIsAnError) {
+    const auto r = run_command(cli() + " compare " + sh_quote(case1_run().string()) + " --tolerance-m -1");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--tolerance-m"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace ddmr::test

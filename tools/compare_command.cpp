@@ -1,0 +1,276 @@
+// `ddmr-hil compare RUN_DIR [--sim ideal|firmware] [--tolerance-m X]`
+//
+// Time base: the firmware's log, one sample every 10 control iterations.
+// Case 1: the EEPROM log (eeprom_log.csv, t_s since the case byte); case 2
+// logs no EEPROM, so its samples are the firmware's own Ex, Ey at every 10th
+// iteration (firmware.csv). For each sample k:
+//   log   : the firmware's logged position (what the robot believed);
+//   truth : the HIL plant's position at the same AVR time (truth.csv);
+//   sim   : the host simulation's true position after the same number of
+//           control iterations, 10 (k + 1) periods into its run.
+// Aligning the simulation by iteration rather than by seconds keeps the
+// comparison about the control loop: the HIL's real period is ~10.4 ms, the
+// sketch assumes 10 ms; the difference in seconds is the loop-timing effect
+// only the HIL has (see summary.json's mean_loop_period_s).
+//
+// Pairs: log_vs_truth, log_vs_sim, truth_vs_sim (reference second). The
+// check: log_vs_sim rms_m <= --tolerance-m.
+// Attribution: the ideal model, then the ideal model with each fidelity
+// switch on alone, then all switches (the firmware model), each against the
+// log: the change in endpoint and RMS error from the ideal baseline.
+#include "compare_command.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/atomic_file.hpp"
+#include "common/sim_csv.hpp"
+#include "comparison.hpp"
+#include "exit_codes.hpp"
+#include "plant/params_yaml.hpp"
+#include "tools/hostsim/host_sim.hpp"
+
+namespace ddmr::tools {
+namespace {
+
+namespace fs = std::filesystem;
+namespace hs = ddmr::hostsim;
+using nlohmann::json;
+
+constexpr int kIterationsPerSample = 10;  ///< the sketch logs every 10 iterations
+
+struct CompareCli {
+    std::string run_dir;
+    std::string sim = "firmware";
+    double tolerance_m = 0.05;
+};
+
+/// Columns of a CSV file with a header row, by name.
+struct Table {
+    std::vector<std::string> names;
+    std::vector<std::vector<double>> columns;
+    const std::vector<double>& col(const std::string& name, const fs::path& file) const {
+        for (std::size_t i = 0; i < names.size(); ++i) {
+            if (names[i] == name) return columns[i];
+        }
+        throw std::runtime_error(file.string() + ": no column '" + name + "'");
+    }
+    std::size_t rows() const { return columns.empty() ? 0 : columns[0].size(); }
+};
+
+Table read_table(const fs::path& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path.string() + ": cannot read (is this a ddmr-hil run folder?)");
+    Table t;
+    std::string line;
+    if (!std::getline(in, line)) throw std::runtime_error(path.string() + ": empty file");
+    std::stringstream header(line);
+    for (std::string name; std::getline(header, name, ',');) t.names.push_back(name);
+    t.columns.resize(t.names.size());
+    std::size_t row = 1;
+    while (std::getline(in, line)) {
+        ++row;
+        std::stringstream ss(line);
+        std::size_t c = 0;
+        for (std::string cell; std::getline(ss, cell, ','); ++c) {
+            if (c >= t.names.size()) throw std::runtime_error(fmt::format("{}:{}: too many columns", path.string(), row));
+            char* end = nullptr;
+            const double v = std::strtod(cell.c_str(), &end);
+            if (end == cell.c_str() || *end != '\0') {
+                throw std::runtime_error(fmt::format("{}:{}: '{}' in column {} is not a number", path.string(), row,
+                                                     cell, t.names[c]));
+            }
+            t.columns[c].push_back(v);
+        }
+        if (c != t.names.size()) throw std::runtime_error(fmt::format("{}:{}: {} columns, expected {}",
+                                                                      path.string(), row, c, t.names.size()));
+    }
+    return t;
+}
+
+/// The firmware's logged track and the HIL times of its samples.
+struct LoggedTrack {
+    std::vector<Point2> points;
+    std::vector<double> t_since_case_s;
+    std::string source;
+};
+
+LoggedTrack logged_track(const fs::path& dir, const json& summary) {
+    LoggedTrack track;
+    const double clock_hz = summary.at("clock_hz").get<double>();
+    const double ready_s = summary.at("ready_cycle").is_null() ? 0.0 : summary["ready_cycle"].get<double>() / clock_hz;
+    if (summary.at("eeprom_log_samples").get<int>() > 0) {
+        const auto p = dir / "eeprom_log.csv";
+        const Table t = read_table(p);
+        for (std::size_t k = 0; k < t.rows(); ++k) {
+            track.points.push_back({t.col("x_m", p)[k], t.col("y_m", p)[k]});
+            track.t_since_case_s.push_back(t.col("t_s", p)[k]);
+        }
+        track.source = "eeprom_log.csv";
+    } else {
+        const auto p = dir / "firmware.csv";
+        const Table t = read_table(p);
+        const auto& tv = t.col("t", p);
+        int iteration = 0;
+        double last_t = 0.0;
+        for (std::size_t r = 0; r < t.rows(); ++r) {
+            if (!(tv[r] > last_t)) break;  // the sketch resets t after its report
+            last_t = tv[r];
+            if (++iteration % kIterationsPerSample != 0) continue;
+            track.points.push_back({t.col("Ex", p)[r], t.col("Ey", p)[r]});
+            track.t_since_case_s.push_back(t.col("t_avr_s", p)[r] - ready_s);
+        }
+        track.source = "firmware.csv (every 10th iteration)";
+    }
+    if (track.points.empty()) throw std::runtime_error(dir.string() + ": the run has no logged samples to compare");
+    return track;
+}
+
+/// The simulation's true position after 10 (k + 1) control periods.
+std::vector<Point2> sim_track(const hs::SimResult& r, const hs::SimConfig& c, std::size_t samples) {
+    std::vector<double> t, x, y;
+    for (const auto& s : r.samples) {
+        t.push_back(s.t_s);
+        x.push_back(s.x_m);
+        y.push_back(s.y_m);
+    }
+    std::vector<Point2> out;
+    for (std::size_t k = 0; k < samples; ++k) {
+        out.push_back(interpolate(t, x, y, static_cast<double>(kIterationsPerSample * (k + 1)) * c.period_s));
+    }
+    return out;
+}
+
+json metrics_json(const PairMetrics& m) {
+    return {{"rms_m", m.rms_m}, {"max_m", m.max_m}, {"endpoint_m", m.endpoint_m},
+            {"endpoint_pct", m.endpoint_pct}, {"samples", m.samples}};
+}
+
+int run_compare(const CompareCli& cli) {
+    const fs::path dir = cli.run_dir;
+    if (!(cli.tolerance_m > 0.0) || !std::isfinite(cli.tolerance_m)) {
+        throw std::invalid_argument(fmt::format("--tolerance-m {}: must be a positive distance in metres", cli.tolerance_m));
+    }
+    json summary;
+    {
+        std::ifstream in(dir / "summary.json");
+        if (!in) throw std::runtime_error((dir / "summary.json").string() + ": cannot read (is this a ddmr-hil run folder?)");
+        try {
+            summary = json::parse(in);
+        } catch (const json::exception& e) {
+            throw std::runtime_error((dir / "summary.json").string() + ": malformed JSON: " + e.what());
+        }
+    }
+    const int test_case = summary.at("case").get<int>();
+    const LoggedTrack log = logged_track(dir, summary);
+    const auto truth_path = dir / "truth.csv";
+    const Table truth = read_table(truth_path);
+    const double clock_hz = summary.at("clock_hz").get<double>();
+    const double ready_s = summary.at("ready_cycle").is_null() ? 0.0 : summary["ready_cycle"].get<double>() / clock_hz;
+    std::vector<Point2> truth_track;
+    for (const double t : log.t_since_case_s) {
+        truth_track.push_back(interpolate(truth.col("t_s", truth_path), truth.col("x_m", truth_path),
+                                          truth.col("y_m", truth_path), ready_s + t));
+    }
+
+    // The simulation of the same robot: same case, plant file and PWM model.
+    const hs::Model model = hs::parse_model(cli.sim);
+    hs::SimConfig base = hs::config_for_case(test_case, hs::Model::ideal);
+    const std::string plant_file = summary.value("plant_file", std::string("(embedded defaults)"));
+    if (plant_file != "(embedded defaults)") base.plant = plant::load_robot_params(plant_file);
+    base.pwm = summary.value("pwm", std::string("switched")) == "switched" ? hs::PwmModel::switched
+                                                                          : hs::PwmModel::averaged;
+    // Long enough for every logged sample's iteration count.
+    base.duration_s = std::max(base.duration_s, static_cast<double>(kIterationsPerSample * log.points.size()) * base.period_s + 0.05);
+    const auto run_with = [&](const hs::Fidelity& f) {
+        hs::SimConfig c = base;
+        c.fidelity = f;
+        c.model = f.is_all() ? hs::Model::firmware : hs::Model::ideal;
+        hs::validate(c);
+        return std::make_pair(c, hs::simulate(c));
+    };
+    const auto [chosen_config, chosen] = run_with(model == hs::Model::firmware ? hs::Fidelity::all() : hs::Fidelity::none());
+    const std::vector<Point2> sim = sim_track(chosen, chosen_config, log.points.size());
+
+    const PairMetrics log_truth = compare_tracks(log.points, truth_track);
+    const PairMetrics log_sim = compare_tracks(log.points, sim);
+    const PairMetrics truth_sim = compare_tracks(truth_track, sim);
+
+    json attribution = json::array();
+    const auto [ideal_config, ideal] = run_with(hs::Fidelity::none());
+    const PairMetrics ideal_m = compare_tracks(log.points, sim_track(ideal, ideal_config, log.points.size()));
+    const auto attribute = [&](const std::string& name, const hs::Fidelity& f) {
+        const auto [c, r] = run_with(f);
+        const PairMetrics m = compare_tracks(log.points, sim_track(r, c, log.points.size()));
+        attribution.push_back({{"switch", name},
+                               {"endpoint_m", m.endpoint_m},
+                               {"rms_m", m.rms_m},
+                               {"endpoint_change_m", m.endpoint_m - ideal_m.endpoint_m},
+                               {"rms_change_m", m.rms_m - ideal_m.rms_m}});
+    };
+    for (const char* name : hs::fidelity_switch_names()) attribute(name, hs::Fidelity::parse(name));
+    attribute("all (firmware model)", hs::Fidelity::all());
+
+    const bool pass = log_sim.rms_m <= cli.tolerance_m;
+    json out = {
+        {"run_dir", dir.string()},
+        {"case", test_case},
+        {"sim_model", hs::to_string(model)},
+        {"time_base", {{"source", log.source},
+                       {"samples", log.points.size()},
+                       {"iterations_per_sample", kIterationsPerSample},
+                       {"sim_period_s", base.period_s}}},
+        {"pairs", {{"log_vs_truth", metrics_json(log_truth)},
+                   {"log_vs_sim", metrics_json(log_sim)},
+                   {"truth_vs_sim", metrics_json(truth_sim)}}},
+        {"ideal_baseline", metrics_json(ideal_m)},
+        {"attribution", attribution},
+        {"tolerance_m", cli.tolerance_m},
+        {"check", "log_vs_sim.rms_m <= tolerance_m"},
+        {"pass", pass},
+    };
+    write_file_atomic(dir / "sim.csv", sim_csv(chosen));
+    write_file_atomic(dir / "compare.json", out.dump(2) + "\n");
+
+    std::printf("%-14s %9s %9s %12s %12s\n", "pair", "rms [m]", "max [m]", "endpoint [m]", "endpoint [%]");
+    for (const auto& [name, m] : {std::pair{"log_vs_truth", log_truth}, std::pair{"log_vs_sim", log_sim},
+                                  std::pair{"truth_vs_sim", truth_sim}}) {
+        std::printf("%-14s %9.4f %9.4f %12.4f %12.2f\n", name, m.rms_m, m.max_m, m.endpoint_m, m.endpoint_pct);
+    }
+    std::printf("\nattribution against the log (ideal %s: endpoint %.4f m, rms %.4f m):\n", "baseline",
+                ideal_m.endpoint_m, ideal_m.rms_m);
+    for (const auto& row : attribution) {
+        std::printf("  %-22s endpoint %+.4f m   rms %+.4f m\n", row["switch"].get<std::string>().c_str(),
+                    row["endpoint_change_m"].get<double>(), row["rms_change_m"].get<double>());
+    }
+    std::printf("\n%s: log vs %s simulation rms %.4f m %s tolerance %.4f m; wrote %s\n", pass ? "PASS" : "FAIL",
+                hs::to_string(model), log_sim.rms_m, pass ? "<=" : ">", cli.tolerance_m,
+                (dir / "compare.json").string().c_str());
+    return pass ? kExitOk : kExitCheckFailed;
+}
+
+}  // namespace
+
+Subcommand register_compare_command(CLI::App& app) {
+    auto cli = std::make_shared<CompareCli>();
+    CLI::App* sub = app.add_subcommand(
+        "compare",
+        "Compare a run's firmware log and plant truth with the host simulation of the same robot; "
+        "writes compare.json and sim.csv into the run folder. Exit 0 within tolerance, 1 not, 2 on error.");
+    sub->add_option("RUN_DIR", cli->run_dir, "A folder written by `ddmr-hil run`")->required();
+    sub->add_option("--sim", cli->sim, "Host simulation model: ideal or firmware")
+        ->check(CLI::IsMember({"ideal", "firmware"}))
+        ->capture_default_str();
+    sub->add_option("--tolerance-m", cli->tolerance_m,
+                    "Largest RMS distance between the firmware's log and the simulation [m]")
+        ->capture_default_str();
+    return Subcommand{sub, [cli]() { return run_compare(*cli); }};
+}
+
+}  // namespace ddmr::tools
