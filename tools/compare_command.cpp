@@ -13,8 +13,11 @@
 // sketch assumes 10 ms; the difference in seconds is the loop-timing effect
 // only the HIL has (see summary.json's mean_loop_period_s).
 //
-// Pairs: log_vs_truth, log_vs_sim, truth_vs_sim (reference second). The
-// check: log_vs_sim rms_m <= --tolerance-m.
+// Pairs: log_vs_truth, log_vs_sim, truth_vs_sim (reference second); and,
+// when the simulation writes the sketch's EEPROM log too (the firmware
+// model), log_vs_sim_log: the two logs byte-decoded, sample by sample, where
+// the firmware's own dead-reckoning error cancels and what remains is the
+// timing only the HIL has. The check: log_vs_sim rms_m <= --tolerance-m.
 // Attribution: the ideal model, then the ideal model with each fidelity
 // switch on alone, then all switches (the firmware model), each against the
 // log: the change in endpoint and RMS error from the ideal baseline.
@@ -26,6 +29,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -201,6 +205,13 @@ int run_compare(const CompareCli& cli) {
     const PairMetrics log_truth = compare_tracks(log.points, truth_track);
     const PairMetrics log_sim = compare_tracks(log.points, sim);
     const PairMetrics truth_sim = compare_tracks(truth_track, sim);
+    std::optional<PairMetrics> log_sim_log;
+    if (chosen.eeprom_logged && chosen.eeprom_log.size() == log.points.size() &&
+        log.source == "eeprom_log.csv") {
+        std::vector<Point2> sim_log;
+        for (const auto& e : chosen.eeprom_log) sim_log.push_back({e.x_m, e.y_m});
+        log_sim_log = compare_tracks(log.points, sim_log);
+    }
 
     json attribution = json::array();
     const auto [ideal_config, ideal] = run_with(hs::Fidelity::none());
@@ -235,12 +246,15 @@ int run_compare(const CompareCli& cli) {
         {"check", "log_vs_sim.rms_m <= tolerance_m"},
         {"pass", pass},
     };
+    if (log_sim_log) out["pairs"]["log_vs_sim_log"] = metrics_json(*log_sim_log);
     write_file_atomic(dir / "sim.csv", sim_csv(chosen));
     write_file_atomic(dir / "compare.json", out.dump(2) + "\n");
 
     std::printf("%-14s %9s %9s %12s %12s\n", "pair", "rms [m]", "max [m]", "endpoint [m]", "endpoint [%]");
-    for (const auto& [name, m] : {std::pair{"log_vs_truth", log_truth}, std::pair{"log_vs_sim", log_sim},
-                                  std::pair{"truth_vs_sim", truth_sim}}) {
+    std::vector<std::pair<const char*, PairMetrics>> rows = {
+        {"log_vs_truth", log_truth}, {"log_vs_sim", log_sim}, {"truth_vs_sim", truth_sim}};
+    if (log_sim_log) rows.emplace_back("log_vs_sim_log", *log_sim_log);
+    for (const auto& [name, m] : rows) {
         std::printf("%-14s %9.4f %9.4f %12.4f %12.2f\n", name, m.rms_m, m.max_m, m.endpoint_m, m.endpoint_pct);
     }
     std::printf("\nattribution against the log (ideal %s: endpoint %.4f m, rms %.4f m):\n", "baseline",
