@@ -4,6 +4,7 @@
 // Addresses are AVR data-space addresses (I/O address + 0x20), as simavr uses.
 // Source: ATmega328P datasheet (DS40002061B), register summary and memory map.
 
+#include <array>
 #include <cstdint>
 
 namespace ddmr::hil::atmega328p {
@@ -33,7 +34,29 @@ inline constexpr int kInt1 = 2;
 inline constexpr int kTimer0Ovf = 16;
 inline constexpr int kUsartRx = 18;
 inline constexpr int kUsartUdre = 19;
+inline constexpr int kUsartTx = 20;
+
+/// Source names of every vector, datasheet table 12-6 ("Reset and Interrupt
+/// Vectors in ATmega328P"), indexed by vector number; as in avr-libc's
+/// <NAME>_vect with the "_vect" dropped.
+inline constexpr std::array<const char*, kVectorCount> kNames = {
+    "RESET",        "INT0",         "INT1",        "PCINT0",      "PCINT1",       "PCINT2",
+    "WDT",          "TIMER2_COMPA", "TIMER2_COMPB", "TIMER2_OVF", "TIMER1_CAPT",  "TIMER1_COMPA",
+    "TIMER1_COMPB", "TIMER1_OVF",   "TIMER0_COMPA", "TIMER0_COMPB", "TIMER0_OVF", "SPI_STC",
+    "USART_RX",     "USART_UDRE",   "USART_TX",    "ADC",         "EE_READY",     "ANALOG_COMP",
+    "TWI",          "SPM_READY"};
 }  // namespace vector
+
+/// SREG bit 7: global interrupt enable.
+inline constexpr int kSregI = 7;
+/// Cycles of RETI (and RET) on a device with a 16-bit PC: datasheet
+/// instruction set summary; simavr 1.6 charges the same (1 + 1 + 2 address bytes).
+inline constexpr uint32_t kRetiCycles = 4;
+/// Interrupt response time the datasheet gives for the ATmega328P (section
+/// 6.7.1: PC pushed, I cleared, 4 cycles before the vector's JMP). simavr 1.6
+/// charges none: the vector's first instruction runs at the cycle the
+/// interrupt is taken.
+inline constexpr uint32_t kDatasheetInterruptResponseCycles = 4;
 
 /// Data-space register addresses.
 namespace reg {

@@ -141,9 +141,21 @@ RunStop AvrCore::run_until(Cycles target) {
     if (stop_requested_) return RunStop::kCondition;
     TargetFlag flag;
     avr_cycle_timer_register(avr, target - avr->cycle, &on_target, &flag);
-    while (!flag.reached && !stop_requested_) {
-        const int state = avr_run(avr);
-        if (state == cpu_Crashed || state == cpu_Done) break;
+    if (instruction_hook_) {
+        const Cycles saved_limit = avr->run_cycle_limit;
+        avr->run_cycle_limit = 1;  // one instruction per avr_run
+        avr->run_cycle_count = 1;
+        while (!flag.reached && !stop_requested_) {
+            const int state = avr_run(avr);
+            instruction_hook_();
+            if (state == cpu_Crashed || state == cpu_Done) break;
+        }
+        avr->run_cycle_limit = saved_limit;
+    } else {
+        while (!flag.reached && !stop_requested_) {
+            const int state = avr_run(avr);
+            if (state == cpu_Crashed || state == cpu_Done) break;
+        }
     }
     avr_cycle_timer_cancel(avr, &on_target, &flag);
     const RunStop stop = state_stop();

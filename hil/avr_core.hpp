@@ -70,6 +70,11 @@ public:
     /// part calls request_stop() / a stop_after() deadline passes (kCondition).
     RunStop run_until(Cycles target);
 
+    /// Called after every instruction while set (pass nullptr to clear):
+    /// run_until then steps one instruction per avr_run, which is exact but
+    /// slower (profiling). Keep it short; it must not throw.
+    void set_instruction_hook(std::function<void()> hook) { instruction_hook_ = std::move(hook); }
+
     /// Asks the running run_until to return after the current instruction
     /// batch. Safe to call from IRQ and cycle-timer callbacks.
     void request_stop() { stop_requested_ = true; }
@@ -110,6 +115,7 @@ private:
     SimavrLog log_;
     std::unique_ptr<avr_t, AvrDeleter> avr_;
     bool stop_requested_ = false;
+    std::function<void()> instruction_hook_;
 };
 
 }  // namespace ddmr::hil

@@ -15,7 +15,9 @@
 #include "hil/board.hpp"
 #include "hil/eeprom_log.hpp"
 #include "hil/elf_image.hpp"
+#include "hil/isr_monitor.hpp"
 #include "hil/loop_tracer.hpp"
+#include "hil/torn_read_detector.hpp"
 #include "hil/robot_rig.hpp"
 #include "plant/params_yaml.hpp"
 
@@ -64,6 +66,79 @@ json report_json(const hil::FirmwareReport& r) {
         {"addr", number_or_null(r.addr)},
         {"eeprom_pairs", pairs},
     };
+}
+
+json stats_json(const hil::CycleDistribution& s, uint32_t clock_hz) {
+    const double us = 1e6 / static_cast<double>(clock_hz);
+    return json{{"count", s.count},
+                {"min_cycles", s.min}, {"mean_cycles", s.mean}, {"p99_cycles", s.p99}, {"max_cycles", s.max},
+                {"min_us", static_cast<double>(s.min) * us}, {"mean_us", s.mean * us},
+                {"p99_us", static_cast<double>(s.p99) * us}, {"max_us", static_cast<double>(s.max) * us},
+                {"histogram", {{"start_cycles", s.bin_start}, {"bin_width_cycles", s.bin_width}, {"counts", s.bins}}}};
+}
+
+/// compute / wait / period statistics for all iterations and for those with
+/// and without an EEPROM write in their compute part.
+json loop_profile_json(const std::vector<hil::LoopIteration>& its, uint32_t clock_hz) {
+    json out;
+    const auto group = [&](const char* name, auto keep) {
+        std::vector<Cycles> compute, wait, period;
+        for (const auto& it : its) {
+            if (!keep(it)) continue;
+            compute.push_back(it.compute());
+            wait.push_back(it.wait());
+            period.push_back(it.period());
+        }
+        out[name] = {{"compute", stats_json(hil::cycle_distribution(compute), clock_hz)},
+                     {"wait", stats_json(hil::cycle_distribution(wait), clock_hz)},
+                     {"period", stats_json(hil::cycle_distribution(period), clock_hz)}};
+    };
+    group("all", [](const hil::LoopIteration&) { return true; });
+    group("without_eeprom_write", [](const hil::LoopIteration& it) { return !it.eeprom_write; });
+    group("with_eeprom_write", [](const hil::LoopIteration& it) { return it.eeprom_write; });
+    out["iterations"] = its.size();
+    return out;
+}
+
+std::string loop_profile_table(const std::vector<hil::LoopIteration>& its, uint32_t clock_hz) {
+    std::string csv = "iteration,start_cycle,compute_cycles,wait_cycles,period_cycles,compute_us,period_us,eeprom_write\n";
+    const double us = 1e6 / static_cast<double>(clock_hz);
+    for (std::size_t i = 0; i < its.size(); ++i) {
+        const auto& it = its[i];
+        fmt::format_to(std::back_inserter(csv), "{},{},{},{},{},{:.4f},{:.4f},{}\n", i + 1, it.start, it.compute(),
+                       it.wait(), it.period(), static_cast<double>(it.compute()) * us,
+                       static_cast<double>(it.period()) * us, it.eeprom_write ? 1 : 0);
+    }
+    return csv;
+}
+
+json isr_json(const hil::IsrSummary& s) {
+    const auto stats = [](const hil::CycleStats& c) {
+        return json{{"count", c.count}, {"min_cycles", c.min}, {"mean_cycles", c.mean()}, {"max_cycles", c.max}};
+    };
+    const auto histogram = [](const hil::CycleHistogram& h) {
+        json bins = json::object();
+        for (std::size_t b = 0; b < hil::CycleHistogram::kBins; ++b) {
+            if (h.counts[b] != 0) bins[hil::CycleHistogram::label(b)] = h.counts[b];
+        }
+        return bins;
+    };
+    json vectors = json::array();
+    for (const auto& v : s.vectors) {
+        vectors.push_back({{"vector", v.vector}, {"name", v.name}, {"handler", v.handler}, {"count", v.count},
+                           {"raised", v.raised}, {"reentries", v.reentries},
+                           {"latency", stats(v.latency)}, {"duration", stats(v.duration)},
+                           {"latency_histogram", histogram(v.latency_histogram)},
+                           {"duration_histogram", histogram(v.duration_histogram)},
+                           {"cpu_share", v.cpu_share}});
+    }
+    return json{{"observed_cycles", s.observed_cycles()},
+                {"isr_cycles", s.isr_cycles},
+                {"interrupts_disabled_cycles",
+                 s.interrupts_disabled_cycles ? json(*s.interrupts_disabled_cycles) : json(nullptr)},
+                {"max_nesting", s.max_nesting},
+                {"vectors", vectors},
+                {"raised_not_entered", s.raised_not_entered}};
 }
 
 json pose_json(const plant::Pose& p) {
@@ -121,6 +196,14 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const hil::ElfImage elf = hil::ElfImage::read(options.firmware);
     elf.require_atmega328p();
     const hil::ElfSymbol ready = elf.require(options.ready_symbol);
+    std::optional<hil::ElfSymbol> loop_mark;
+    if (options.profile) {
+        loop_mark = elf.require(options.loop_mark);
+        if (!loop_mark->is_function || loop_mark->size == 0) {
+            throw std::runtime_error(fmt::format("firmware {}: --loop-mark '{}' is not a function",
+                                                 options.firmware.string(), options.loop_mark));
+        }
+    }
     if (!ready.is_function) {
         throw std::runtime_error(fmt::format("firmware {}: symbol '{}' is not a function",
                                              options.firmware.string(), options.ready_symbol));
@@ -139,6 +222,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     // Firmware globals traced per iteration: a firmware without them (not the
     // reference sketch) is refused here, before anything is written.
     hil::LoopTracer tracer(rig.variables(), kLoopMarker, traced_variables());
+    hil::IsrMonitor isr_monitor(core, elf);
+    // Torn reads of Count1/Count2 (the reference sketch's ISR-written globals);
+    // another firmware without them is simply not watched.
+    std::optional<hil::TornReadDetector> torn_reads;
+    if (elf.find("Count1") && elf.find("Count2")) torn_reads.emplace(core, elf);
+    std::optional<hil::LoopProfiler> profiler;
+    if (loop_mark) profiler.emplace(core, *loop_mark);
     prepare_output_dir(options.out_dir);
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
@@ -225,6 +315,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (stop == hil::RunStop::kCondition && rig.coupler().status() == plant::StepStatus::ok) {
         result.ready_cycle = core.cycle();
         progress("ready");
+        if (profiler) profiler->arm();
         uart.send(std::string(1, static_cast<char>('0' + options.test_case)));
         stop = hil::RunStop::kReachedCycle;
         while (stop == hil::RunStop::kReachedCycle && core.cycle() < limit) {
@@ -290,6 +381,36 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         result.mean_loop_period_s =
             hil::cycles_to_s(period_sum, core.clock_hz()) / static_cast<double>(period_count);
     }
+    json loop_profile = nullptr;
+    std::string loop_profile_csv;
+    if (profiler) {
+        std::vector<Cycles> write_cycles;
+        for (const auto& w : rig.eeprom_timing().writes()) write_cycles.push_back(w.cycle);
+        profiler->tag_eeprom_writes(write_cycles);
+        result.loop_profile = profiler->iterations();
+        loop_profile = loop_profile_json(result.loop_profile, core.clock_hz());
+        loop_profile["mark"] = options.loop_mark;
+        loop_profile_csv = loop_profile_table(result.loop_profile, core.clock_hz());
+    }
+    const hil::IsrSummary isr_summary = isr_monitor.summary();
+    json isr = isr_json(isr_summary);
+    json torn = nullptr;
+    if (torn_reads) {
+        torn = json::object();
+        for (std::size_t v = 0; v < 2; ++v) {
+            const auto& st = torn_reads->stats(v);
+            torn[v == 0 ? "Count1" : "Count2"] = {{"split_reads", st.split_reads}, {"torn", st.torn},
+                                                   {"visible", st.visible}};
+        }
+        json records = json::array();
+        for (const auto& r : torn_reads->records()) {
+            records.push_back({{"cycle", r.cycle}, {"variable", torn_reads->name(r)}, {"vector", r.vector},
+                               {"value_read", r.value_read}, {"true_value", r.value_after},
+                               {"visible", r.visible}});
+        }
+        torn["records"] = records;
+    }
+    isr["torn_reads"] = torn;
     const hil::EepromLogTiming log_timing =
         hil::eeprom_log_timing(rig.eeprom_timing().writes(), result.ready_cycle.value_or(0), core.clock_hz());
     const auto log = hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s);
@@ -340,6 +461,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         {"mean_loop_period_s", result.mean_loop_period_s},
         {"eeprom_log_samples", result.eeprom_log_samples},
         {"eeprom_writes", rig.eeprom_timing().writes().size()},
+        {"loop_profile", loop_profile},
+        {"isr", {{"isr_share", static_cast<double>(isr_summary.isr_cycles) /
+                                   static_cast<double>(std::max<Cycles>(1, isr_summary.observed_cycles()))},
+                 {"torn_reads", torn.is_null() ? json(nullptr) : json{{"Count1", torn["Count1"]}, {"Count2", torn["Count2"]}}},
+                 {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", report_json(result.report)},
         {"simavr_log",
@@ -352,6 +478,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()),
                                        result.eeprom.size()));
     write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
+    if (profiler) write_file_atomic(options.out_dir / "loop_profile.csv", loop_profile_csv);
+    write_file_atomic(options.out_dir / "isr.json", isr.dump(2) + "\n");
+    write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary));
     truth_csv.commit();
     firmware_csv.commit();
     write_file_atomic(options.out_dir / "summary.json", summary.dump(2) + "\n");

@@ -18,12 +18,14 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hil/avr_core.hpp"
 #include "hil/eeprom_port.hpp"
 #include "hil/eeprom_write_timing.hpp"
 #include "hil/encoder_injector.hpp"
 #include "hil/firmware_report.hpp"
+#include "hil/loop_profiler.hpp"
 #include "hil/uart_link.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/l298_driver.hpp"
@@ -45,6 +47,8 @@ struct FirmwareRunOptions {
     plant::DriveMode pwm = plant::DriveMode::switched;
     hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
     hil::Cycles coupling_step_cycles = 1000;  ///< plant step [cycles] = max input latency
+    bool profile = false;                 ///< exact loop cycle counts (single-steps: slower)
+    std::string loop_mark = "delay";      ///< the function each loop iteration calls once
     bool progress = false;                ///< one progress line per simulated second on stderr
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
 };
@@ -75,6 +79,7 @@ struct FirmwareRunResult {
     uint64_t loop_iterations = 0;
     double mean_loop_period_s = 0.0;  ///< over the traced iterations
     std::size_t eeprom_log_samples = 0;
+    std::vector<hil::LoopIteration> loop_profile;  ///< with FirmwareRunOptions::profile
 };
 
 /// Validates every input (throws std::runtime_error / std::invalid_argument

@@ -12,6 +12,7 @@
 #include "plant_command.hpp"
 #include "run_command.hpp"
 #include "sim_command.hpp"
+#include "sweep_command.hpp"
 
 int main(int argc, char** argv) {
     CLI::App app{"ddmr-hil: run the unmodified differential-drive robot firmware in simavr, "
@@ -20,9 +21,11 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "ddmr-hil 0.1.0");
     const std::vector<ddmr::tools::Subcommand> subcommands = {
         ddmr::tools::register_run_command(app),
+        ddmr::tools::register_profile_command(app),
         ddmr::tools::register_compare_command(app),
         ddmr::tools::register_plant_command(app),
         ddmr::tools::register_sim_command(app),
+        ddmr::tools::register_sweep_command(app),
     };
     try {
         app.parse(argc, argv);

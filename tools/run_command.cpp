@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -26,13 +27,12 @@ struct RunCli {
 
 }  // namespace
 
-Subcommand register_run_command(CLI::App& app) {
-    auto cli = std::make_shared<RunCli>();
+namespace {
+
+/// The options `run` and `profile` share, and their action.
+Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
     cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
-    CLI::App* sub = app.add_subcommand(
-        "run",
-        "Run the firmware in simavr: boot, wait for setup() to end, send the case byte, and record "
-        "the UART, the EEPROM and a summary until the firmware's end-of-run report has been sent.");
+    cli->options.profile = profile_always;
     sub->add_option("--firmware", cli->options.firmware, "Firmware ELF for the ATmega328P")
         ->capture_default_str();
     sub->add_option("--case", cli->options.test_case,
@@ -71,10 +71,19 @@ Subcommand register_run_command(CLI::App& app) {
                                                "stderr is a terminal)");
     sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
     sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
+    if (!profile_always) {
+        sub->add_flag("--profile", cli->options.profile,
+                      "Exact control-loop cycle counts (loop_profile.csv; single-steps: several times slower)");
+    }
+    sub->add_option("--loop-mark", cli->options.loop_mark,
+                    "With --profile: the function each loop iteration calls once (its call ends the compute part)")
+        ->capture_default_str();
 
-    return Subcommand{sub, [cli]() {
+    return Subcommand{sub, [cli, profile_always]() {
         FirmwareRunOptions o = cli->options;
-        o.out_dir = cli->out_dir.empty() ? "out/run-case" + std::to_string(o.test_case) : cli->out_dir;
+        o.out_dir = cli->out_dir.empty()
+                        ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
+                        : cli->out_dir;
         if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
         if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
@@ -104,8 +113,39 @@ Subcommand register_run_command(CLI::App& app) {
                     static_cast<unsigned long long>(r.loop_iterations), r.mean_loop_period_s * 1e3,
                     static_cast<unsigned long long>(r.encoder[0].lost_edges),
                     static_cast<unsigned long long>(r.encoder[1].lost_edges));
+        if (!r.loop_profile.empty()) {
+            hil::Cycles max_compute = 0, max_period = 0, sum_compute = 0, sum_period = 0;
+            for (const auto& it : r.loop_profile) {
+                max_compute = std::max(max_compute, it.compute());
+                max_period = std::max(max_period, it.period());
+                sum_compute += it.compute();
+                sum_period += it.period();
+            }
+            const double n = static_cast<double>(r.loop_profile.size());
+            std::printf("loop profile: %zu iterations, compute mean %.1f us (max %.1f us), period mean %.3f ms "
+                        "(max %.3f ms); details in loop_profile.csv and summary.json\n",
+                        r.loop_profile.size(), hil::cycles_to_s(sum_compute) / n * 1e6,
+                        hil::cycles_to_s(max_compute) * 1e6, hil::cycles_to_s(sum_period) / n * 1e3,
+                        hil::cycles_to_s(max_period) * 1e3);
+        }
         return kExitOk;
     }};
+}
+
+}  // namespace
+
+Subcommand register_run_command(CLI::App& app) {
+    CLI::App* sub = app.add_subcommand(
+        "run",
+        "Run the firmware in simavr: boot, wait for setup() to end, send the case byte, and record "
+        "the UART, the EEPROM and a summary until the firmware's end-of-run report has been sent.");
+    return add_run_options(sub, std::make_shared<RunCli>(), false);
+}
+
+Subcommand register_profile_command(CLI::App& app) {
+    CLI::App* sub = app.add_subcommand(
+        "profile", "`run --profile`: the run, plus exact cycle counts of every control-loop iteration");
+    return add_run_options(sub, std::make_shared<RunCli>(), true);
 }
 
 }  // namespace ddmr::tools

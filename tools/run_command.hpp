@@ -5,5 +5,7 @@
 namespace ddmr::tools {
 
 Subcommand register_run_command(CLI::App& app);
+/// `ddmr-hil profile`: `run` with --profile on, same options.
+Subcommand register_profile_command(CLI::App& app);
 
 }  // namespace ddmr::tools

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
+#include "common/hostsim_json.hpp"
 #include "common/sim_csv.hpp"
 #include "common/truth_csv.hpp"
 #include "exit_codes.hpp"
@@ -176,27 +177,7 @@ std::string eeprom_csv(const hs::SimResult& r) {
     return hil::eeprom_log_csv(samples);
 }
 
-nlohmann::json gains_json(const hs::Gains& g) {
-    return {{"kx", g.kx}, {"ky", g.ky}, {"kw", g.kw}, {"vref_m_s", g.vref_m_s}, {"wref_rad_s", g.wref_rad_s}};
-}
 
-nlohmann::json case_json(const hs::CaseSpec& c) {
-    nlohmann::json j;
-    j["name"] = c.name;
-    if (c.kind == hs::CaseKind::circle) {
-        j["kind"] = "circle";
-        j["radius_m"] = c.radius_m;
-        j["rate_rad_s"] = c.rate_rad_s;
-        j["heading0_rad"] = c.heading0_rad;
-    } else {
-        j["kind"] = "line_step";
-        j["line_speed_m_s"] = c.line_speed_m_s;
-        j["step_m"] = c.step_m;
-        j["step_time_s"] = c.step_time_s;
-        j["step_axis"] = c.step_axis == hs::StepAxis::x ? "x" : "y";
-    }
-    return j;
-}
 
 int run_sim(const SimCli& o) {
     const SimPlan plan = plan_of(o);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -65,6 +66,15 @@ TEST(RunCommand, Case1WritesUartEepromAndSummary) {
                                                   "wheel1_rad_s,wheel2_rad_s,vbatt_V,edges1,edges2,duty1,"
                                                   "duty2,dir1,dir2\n", 0), 0u);
     EXPECT_GE(lines(read_text(out / "firmware.csv")), 1201);
+    // isr.json: the INT0/INT1 vector entries are the encoder ISR counts.
+    const json isr = json::parse(read_text(out / "isr.json"));
+    std::map<std::string, uint64_t> entries;
+    for (const auto& v : isr["vectors"]) entries[v["name"].get<std::string>()] = v["count"].get<uint64_t>();
+    EXPECT_EQ(entries["INT0"], s["encoder"]["channel1"]["isr_count"].get<uint64_t>());
+    EXPECT_EQ(entries["INT1"], s["encoder"]["channel2"]["isr_count"].get<uint64_t>());
+    // Timer 0 overflows every 256 x 64 = 16,384 cycles from init() on.
+    EXPECT_NEAR(static_cast<double>(entries["TIMER0_OVF"]), s["cycles_total"].get<double>() / 16384.0, 2.0);
+    EXPECT_EQ(s["isr"]["torn_reads"]["Count1"]["visible"], 0);
     EXPECT_EQ(lines(read_text(out / "eeprom_log.csv")), 121);
     EXPECT_EQ(rep["addr"], 240);
     EXPECT_DOUBLE_EQ(rep["gx"].get<double>(), 0.6);
@@ -106,6 +116,21 @@ TEST(RunCommand, TimeLimitIsAFirmwareFailureWithArtifactsKept) {
     const json s = json::parse(read_text(out / "summary.json"));
     EXPECT_EQ(s["exit_reason"], "timeout");
     EXPECT_EQ(read_text(out / "uart.txt"), "0.6m\r\n");
+}
+
+TEST(RunCommand, ProfileMeasuresEveryIteration) {
+    TempDir dir;
+    const auto out = dir / "prof";
+    const auto r = run_command(cli() + " profile --case 2 -q --out " + sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json s = json::parse(read_text(out / "summary.json"));
+    // Case 2: 800 delay(9) calls; the first opens the first iteration.
+    EXPECT_EQ(s["loop_profile"]["iterations"], 799);
+    EXPECT_EQ(s["loop_profile"]["all"]["period"]["count"], 799);
+    EXPECT_GE(s["loop_profile"]["all"]["wait"]["min_us"].get<double>(), 9000.0);
+    EXPECT_EQ(s["loop_profile"]["with_eeprom_write"]["period"]["count"], 0);  // case 2 logs nothing
+    const std::string table = read_text(out / "loop_profile.csv");
+    EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 800);  // header + 799 rows
 }
 
 TEST(RunCommand, HelpListsTheOptions) {

@@ -176,6 +176,23 @@ def main(argv):
             for row in compare["attribution"]:
                 lines.append(f"| {row['switch']} | {row['endpoint_change_m']:+.4f} | {row['rms_change_m']:+.4f} |")
             lines.append("")
+    lp = summary.get("loop_profile")
+    if lp:
+        lines += ["## Control-loop cycle counts", "",
+                  "| iterations | part | count | min [us] | mean [us] | p99 [us] | max [us] |",
+                  "| --- | --- | --- | --- | --- | --- | --- |"]
+        for group in ("without_eeprom_write", "with_eeprom_write", "all"):
+            for part in ("compute", "wait", "period"):
+                d = lp[group][part]
+                if d["count"] == 0:
+                    continue
+                lines.append(f"| {group.replace('_', ' ')} | {part} | {d['count']} | {d['min_us']:.1f} | "
+                             f"{d['mean_us']:.1f} | {d['p99_us']:.1f} | {d['max_us']:.1f} |")
+        lines.append("")
+    isr_md = os.path.join(run_dir, "isr.md")
+    if os.path.exists(isr_md):
+        with open(isr_md) as f:
+            lines += ["## ISR timing", "", f.read(), ""]
     titles = {"xy": "X-Y trajectories", "tracking_error": "Tracking error", "wheel_speeds": "Wheel speeds",
               "drive": "Drive (duty and direction)", "currents": "Motor currents", "battery": "Battery voltage"}
     for p in plots:
