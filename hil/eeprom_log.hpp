@@ -19,8 +19,9 @@
 //
 // Times: with no times given, sample k is stamped with the firmware's clock
 // when it was logged, the nominal (k + 1) * 0.1 s after the case started (t is
-// summed in float, so the firmware's own t drifts by ~1e-5 s over 12 s). For
-// measured times pass eeprom_log_timing(...) of an EepromWriteTiming's writes.
+// summed in float: after 1200 additions of 0.01f it reads 12.0001793 s, a
+// drift of 1.8e-4 s). For measured times pass eeprom_log_timing(...) of an
+// EepromWriteTiming's writes.
 
 #include <cstdint>
 #include <string>

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -19,6 +20,9 @@
 #include "hil/loop_tracer.hpp"
 #include "hil/torn_read_detector.hpp"
 #include "hil/robot_rig.hpp"
+
+#include <sim_avr.h>
+#include <sim_cycle_timers.h>
 #include "plant/params_yaml.hpp"
 
 namespace ddmr::tools {
@@ -145,6 +149,44 @@ json pose_json(const plant::Pose& p) {
     return json{{"x_m", p.x_m}, {"y_m", p.y_m}, {"theta_rad", p.theta_rad}};
 }
 
+/// "name[:type]" -> a traced variable; the type defaults by the symbol's size.
+hil::TracedVariable parse_trace_spec(const std::string& spec, const hil::ElfImage& elf) {
+    const auto colon = spec.find(':');
+    hil::TracedVariable v;
+    v.name = spec.substr(0, colon);
+    if (v.name.empty()) throw std::invalid_argument("--trace '" + spec + "': empty variable name");
+    if (colon != std::string::npos) {
+        try {
+            v.type = hil::parse_var_type(spec.substr(colon + 1));
+        } catch (const std::exception& e) {
+            throw std::invalid_argument("--trace '" + spec + "': " + e.what());
+        }
+        return v;
+    }
+    const auto sym = elf.find(v.name);
+    if (!sym) throw std::invalid_argument("--trace '" + spec + "': firmware has no symbol '" + v.name + "'");
+    switch (sym->size) {
+        case 1: v.type = hil::VarType::kUint8; break;
+        case 2: v.type = hil::VarType::kInt16; break;
+        case 4: v.type = hil::VarType::kFloat; break;
+        default:
+            throw std::invalid_argument("--trace '" + spec + "': '" + v.name + "' has " + std::to_string(sym->size) +
+                                        " bytes; give its type as name:type");
+    }
+    return v;
+}
+
+struct PeriodicSampler {
+    std::function<void(Cycles)> sample;
+    Cycles period = 0;
+};
+
+uint64_t on_periodic_sample(struct avr_t* /*avr*/, uint64_t when, void* param) {
+    auto* s = static_cast<PeriodicSampler*>(param);
+    s->sample(when);
+    return when + s->period;
+}
+
 hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     hil::RigConfig c;
     if (o.plant_file) {
@@ -229,6 +271,15 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (elf.find("Count1") && elf.find("Count2")) torn_reads.emplace(core, elf);
     std::optional<hil::LoopProfiler> profiler;
     if (loop_mark) profiler.emplace(core, *loop_mark);
+    // trace.csv: the user's globals, per iteration or every N cycles.
+    std::vector<hil::TracedVariable> trace_vars;
+    for (const auto& spec : options.trace) trace_vars.push_back(parse_trace_spec(spec, elf));
+    std::optional<hil::LoopTracer> trace_tracer;
+    std::vector<hil::Variable> trace_handles;
+    if (!trace_vars.empty()) {
+        trace_tracer.emplace(rig.variables(), kLoopMarker, trace_vars);  // validates every name and size
+        for (const auto& v : trace_vars) trace_handles.push_back(rig.variables().lookup(v.name, v.type));
+    }
     prepare_output_dir(options.out_dir);
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
@@ -279,7 +330,37 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
         last_t = t;
     });
-    rig.coupler().set_boundary_hook([&](Cycles cycle) { tracer.poll(cycle); });
+    std::optional<AtomicFileWriter> trace_csv;
+    PeriodicSampler periodic;
+    uint64_t trace_rows = 0;
+    if (trace_tracer) {
+        trace_csv.emplace(options.out_dir / "trace.csv");
+        std::string header = options.trace_every_cycles > 0 ? "row,cycle,t_avr_s" : "iteration,cycle,t_avr_s";
+        for (const auto& v : trace_vars) header += "," + v.name;
+        trace_csv->write(header + "\n");
+        const auto write_row = [&](Cycles cycle, const std::vector<double>& values) {
+            std::string r = fmt::format("{},{},{:.7f}", ++trace_rows, cycle, hil::cycles_to_s(cycle, core.clock_hz()));
+            for (double v : values) fmt::format_to(std::back_inserter(r), ",{:.9g}", v);
+            r.push_back('\n');
+            trace_csv->write(r);
+        };
+        if (options.trace_every_cycles > 0) {
+            periodic.period = options.trace_every_cycles;
+            periodic.sample = [&, write_row](Cycles cycle) {
+                std::vector<double> values;
+                values.reserve(trace_handles.size());
+                for (const auto& h : trace_handles) values.push_back(rig.variables().read(h));
+                write_row(cycle, values);
+            };
+            avr_cycle_timer_register(core.raw(), options.trace_every_cycles, &on_periodic_sample, &periodic);
+        } else {
+            trace_tracer->set_sink(write_row);
+        }
+    }
+    rig.coupler().set_boundary_hook([&](Cycles cycle) {
+        tracer.poll(cycle);
+        if (trace_tracer && options.trace_every_cycles == 0) trace_tracer->poll(cycle);
+    });
 
     FirmwareRunResult result;
     hil::FirmwareReportParser parser(/*expects_eeprom_dump=*/options.test_case == 1);
@@ -481,6 +562,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (profiler) write_file_atomic(options.out_dir / "loop_profile.csv", loop_profile_csv);
     write_file_atomic(options.out_dir / "isr.json", isr.dump(2) + "\n");
     write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary));
+    if (trace_csv) trace_csv->commit();
     truth_csv.commit();
     firmware_csv.commit();
     write_file_atomic(options.out_dir / "summary.json", summary.dump(2) + "\n");

@@ -49,6 +49,10 @@ struct FirmwareRunOptions {
     hil::Cycles coupling_step_cycles = 1000;  ///< plant step [cycles] = max input latency
     bool profile = false;                 ///< exact loop cycle counts (single-steps: slower)
     std::string loop_mark = "delay";      ///< the function each loop iteration calls once
+    /// Firmware globals for trace.csv: "name" or "name:type" (type: int8 ...
+    /// uint32, float; default by size: 1 uint8, 2 int16, 4 float).
+    std::vector<std::string> trace;
+    hil::Cycles trace_every_cycles = 0;   ///< 0: one trace row per loop iteration
     bool progress = false;                ///< one progress line per simulated second on stderr
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
 };

@@ -75,6 +75,13 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         sub->add_flag("--profile", cli->options.profile,
                       "Exact control-loop cycle counts (loop_profile.csv; single-steps: several times slower)");
     }
+    sub->add_option("--trace", cli->options.trace,
+                    "Firmware globals to sample into trace.csv, by symbol: NAME or NAME:TYPE (int8 ... uint32, "
+                    "float), once per loop iteration")
+        ->delimiter(',');
+    sub->add_option("--trace-every", cli->options.trace_every_cycles,
+                    "With --trace: sample every N AVR cycles instead of once per iteration")
+        ->check(CLI::Range(static_cast<hil::Cycles>(1), static_cast<hil::Cycles>(1'000'000'000)));
     sub->add_option("--loop-mark", cli->options.loop_mark,
                     "With --profile: the function each loop iteration calls once (its call ends the compute part)")
         ->capture_default_str();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -131,6 +132,45 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     EXPECT_EQ(s["loop_profile"]["with_eeprom_write"]["period"]["count"], 0);  // case 2 logs nothing
     const std::string table = read_text(out / "loop_profile.csv");
     EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 800);  // header + 799 rows
+}
+
+TEST(RunCommand, TraceOfExEyMatchesFirmwareCsv) {
+    TempDir dir;
+    const auto out = dir / "trace";
+    const auto r = run_command(cli() + " run --case 2 -q --trace Ex,Ey,Count1:uint32 --out " + sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    // Both are sampled at the same confirmed iteration boundaries: row for row
+    // the same cycle, Ex and Ey.
+    std::istringstream trace(read_text(out / "trace.csv"));
+    std::istringstream fw(read_text(out / "firmware.csv"));
+    std::string t_line, f_line;
+    std::getline(trace, t_line);
+    std::getline(fw, f_line);
+    EXPECT_EQ(t_line, "iteration,cycle,t_avr_s,Ex,Ey,Count1");
+    int rows = 0;
+    while (std::getline(trace, t_line) && std::getline(fw, f_line)) {
+        // firmware.csv: iteration,cycle,t_avr_s,Ex,Ey,...; trace.csv: the same first five columns.
+        const auto prefix = [](const std::string& line, int fields) {
+            std::size_t pos = 0;
+            for (int i = 0; i < fields; ++i) pos = line.find(',', pos) + 1;
+            return line.substr(0, pos);
+        };
+        ASSERT_EQ(prefix(t_line, 5), prefix(f_line, 5)) << "row " << rows;
+        ++rows;
+    }
+    EXPECT_GE(rows, 800);
+}
+
+TEST(RunCommand, TraceOfAnUnknownOrMisTypedVariableIsRefused) {
+    TempDir dir;
+    auto r = run_command(cli() + " run -q --trace Nope --out " + sh_quote((dir / "a").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("'Nope'"), std::string::npos) << r.err;
+    r = run_command(cli() + " run -q --trace Count1:int16 --out " + sh_quote((dir / "b").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("Count1"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "a"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "b"));
 }
 
 TEST(RunCommand, HelpListsTheOptions) {
