@@ -7,10 +7,13 @@
 #include <array>
 #include <cstdint>
 
+#include "plant/pwm_waveform.hpp"
+
 namespace ddmr::hil::atmega328p {
 
 inline constexpr const char* kMcuName = "atmega328p";
-inline constexpr uint32_t kClockHz = 16'000'000;  ///< Uno crystal [Hz]
+/// Uno crystal [Hz]: the plant's PWM timing uses the same one definition.
+inline constexpr uint32_t kClockHz = static_cast<uint32_t>(plant::kCpuHz);
 inline constexpr uint32_t kFlashBytes = 32 * 1024;
 inline constexpr uint32_t kSramBytes = 2 * 1024;
 inline constexpr uint16_t kSramStart = 0x0100;      ///< first SRAM address (after the I/O space)
