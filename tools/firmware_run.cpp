@@ -199,10 +199,12 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
         c.board = *board;
     }
     c.coupler.mode = o.pwm;
-    if (o.coupling_step_cycles == 0 || 16000 % o.coupling_step_cycles != 0) {
+    // PlantCoupler checks this too; here the message names the option.
+    const Cycles truth_period = c.coupler.truth_period_cycles;
+    if (o.coupling_step_cycles == 0 || truth_period % o.coupling_step_cycles != 0) {
         throw std::invalid_argument(fmt::format(
-            "--coupling-step {} cycles: must divide the 16,000-cycle (1 ms) truth period",
-            o.coupling_step_cycles));
+            "--coupling-step {} cycles: must divide the {}-cycle truth period", o.coupling_step_cycles,
+            truth_period));
     }
     c.coupler.step_cycles = o.coupling_step_cycles;
     c.eeprom_timing = o.eeprom_timing;

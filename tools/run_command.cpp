@@ -8,6 +8,7 @@
 
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "hil/plant_coupler.hpp"
 
 namespace ddmr::tools {
 namespace {
@@ -64,8 +65,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->check(CLI::IsMember({"datasheet", "instant"}))
         ->capture_default_str();
     sub->add_option("--coupling-step", cli->options.coupling_step_cycles,
-                    "Plant step [AVR cycles]: the largest input latency; must divide 16000")
-        ->check(CLI::Range(1, 16000))
+                    "Plant step [AVR cycles]: the largest input latency; must divide the " +
+                        std::to_string(hil::CouplerConfig{}.truth_period_cycles) + "-cycle (1 ms) truth period")
+        ->check(CLI::Range(hil::Cycles{1}, hil::CouplerConfig{}.truth_period_cycles))
         ->capture_default_str();
     sub->add_flag("--progress", cli->progress, "Print progress every simulated second (default when "
                                                "stderr is a terminal)");

@@ -24,6 +24,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/hostsim_json.hpp"
+#include "common/plant_option.hpp"
 #include "common/sim_csv.hpp"
 #include "common/truth_csv.hpp"
 #include "exit_codes.hpp"
@@ -39,7 +40,6 @@ namespace {
 namespace hs = ddmr::hostsim;
 
 /// `--plant kinematic` selects the kinematic robot instead of a parameter file.
-constexpr const char* kKinematicPlant = "kinematic";
 
 struct SimCli {
     std::string model = "ideal";
@@ -106,17 +106,10 @@ SimPlan plan_of(const SimCli& o) {
     c.period_s = o.period_ms * 1e-3;
     c.pwm = o.pwm == "switched" ? hs::PwmModel::switched : hs::PwmModel::averaged;
 
-    c.kinematic_plant = o.plant == kKinematicPlant;
-    if (o.plant.empty() || c.kinematic_plant) {
-        c.plant = plant::default_robot_params();
-        p.plant_source = c.kinematic_plant ? "kinematic" : "(embedded defaults)";
-    } else {
-        if (!std::filesystem::is_regular_file(o.plant)) {
-            throw std::invalid_argument(fmt::format("--plant {}: no such file (a plant YAML, or 'kinematic')", o.plant));
-        }
-        c.plant = plant::load_robot_params(o.plant);
-        p.plant_source = o.plant;
-    }
+    const PlantChoice plant_choice = resolve_plant_option(o.plant);
+    c.kinematic_plant = plant_choice.kinematic;
+    c.plant = plant_choice.params;
+    p.plant_source = plant_choice.source;
     c.plant_step_s = o.plant_step_s ? *o.plant_step_s : c.plant.stepper.max_step_s;
 
     if (c.kinematic_plant) {

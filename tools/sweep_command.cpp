@@ -29,6 +29,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/hostsim_json.hpp"
+#include "common/plant_option.hpp"
 #include "exit_codes.hpp"
 #include "plant/params_yaml.hpp"
 #include "tools/hostsim/gain_sweep.hpp"
@@ -42,7 +43,6 @@ namespace {
 namespace hs = ddmr::hostsim;
 
 /// `--plant kinematic` selects the kinematic robot instead of a parameter file.
-constexpr const char* kKinematicPlant = "kinematic";
 /// The interpreter the plots need (Debian's, with python3-matplotlib), as
 /// the Makefile runs make_report.py.
 constexpr const char* kPython = "/usr/bin/python3";
@@ -79,17 +79,10 @@ SweepPlan plan_of(const SweepCli& o) {
     hs::SimConfig& b = p.base;
     b.model = hs::parse_model(o.model);
     b.fidelity = b.model == hs::Model::firmware ? hs::Fidelity::all() : hs::Fidelity::none();
-    b.kinematic_plant = o.plant == kKinematicPlant;
-    if (o.plant.empty() || b.kinematic_plant) {
-        b.plant = plant::default_robot_params();
-        p.plant_source = b.kinematic_plant ? "kinematic" : "(embedded defaults)";
-    } else {
-        if (!std::filesystem::is_regular_file(o.plant)) {
-            throw std::invalid_argument(fmt::format("--plant {}: no such file (a plant YAML, or 'kinematic')", o.plant));
-        }
-        b.plant = plant::load_robot_params(o.plant);
-        p.plant_source = o.plant;
-    }
+    const PlantChoice plant_choice = resolve_plant_option(o.plant);
+    b.kinematic_plant = plant_choice.kinematic;
+    b.plant = plant_choice.params;
+    p.plant_source = plant_choice.source;
     if (b.kinematic_plant && b.model != hs::Model::ideal) {
         throw std::invalid_argument("--plant kinematic: only with --model ideal");
     }

@@ -52,25 +52,16 @@ TEST(SimCommand, DefaultOutputFolderNamesCaseAndModel) {
 TEST(SimCommand, BadOptionsExit2NamingTheValueAndWriteNothing) {
     TempDir dir;
     const std::string out = " --out " + sh_quote((dir / "x").string());
-    struct Bad {
-        std::string args;
-        std::string named;
-    };
-    for (const Bad& b : {Bad{"--fidelity int_gains,warp_drive", "warp_drive"},
-                         Bad{"--model firmware --fidelity float32", "--fidelity"},
-                         Bad{"--circle 0,12", "--circle"},
-                         Bad{"--case 3", "--case"},
-                         Bad{"--case 1 --line x", "--line"},
-                         Bad{"--kx -1", "--kx"},
-                         Bad{"--plant kinematic --fidelity encoder_odometry", "encoder_odometry"},
-                         Bad{"--plant /no/such.yaml", "/no/such.yaml"},
-                         Bad{"--model firmware --duration 0.005", "--duration"}}) {
-        const ProcessResult r = run_command(cli() + " sim " + b.args + out);
-        EXPECT_EQ(r.exit_code, 2) << b.args;
-        EXPECT_NE(r.err.find(b.named), std::string::npos) << b.args << ": " << r.err;
-        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
-        EXPECT_FALSE(std::filesystem::exists(dir / "x")) << b.args;
-    }
+    expect_refused(cli() + " sim ", out, dir / "x",
+                   {BadArgs{"--fidelity int_gains,warp_drive", "warp_drive"},
+                    BadArgs{"--model firmware --fidelity float32", "--fidelity"},
+                    BadArgs{"--circle 0,12", "--circle"},
+                    BadArgs{"--case 3", "--case"},
+                    BadArgs{"--case 1 --line x", "--line"},
+                    BadArgs{"--kx -1", "--kx"},
+                    BadArgs{"--plant kinematic --fidelity encoder_odometry", "encoder_odometry"},
+                    BadArgs{"--plant /no/such.yaml", "/no/such.yaml"},
+                    BadArgs{"--model firmware --duration 0.005", "--duration"}});
 }
 
 }  // namespace

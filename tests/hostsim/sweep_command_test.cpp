@@ -59,22 +59,13 @@ TEST(SweepCommand, NoPlotWritesDataOnly) {
 TEST(SweepCommand, BadOptionsExit2NamingTheValueAndWriteNothing) {
     TempDir dir;
     const std::string out = " --out " + sh_quote((dir / "x").string());
-    struct Bad {
-        std::string args;
-        std::string named;
-    };
-    for (const Bad& b : {Bad{"--study fig5_2,fig9_9", "fig9_9"},
-                         Bad{"--study fig5_2,", "--study"},
-                         Bad{"-j 0", "-j"},
-                         Bad{"--model warp", "warp"},
-                         Bad{"--model firmware --plant kinematic", "--plant kinematic"},
-                         Bad{"--plant /no/such.yaml", "/no/such.yaml"}}) {
-        const ProcessResult r = run_command(cli() + " sweep " + b.args + out);
-        EXPECT_EQ(r.exit_code, 2) << b.args;
-        EXPECT_NE(r.err.find(b.named), std::string::npos) << b.args << ": " << r.err;
-        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
-        EXPECT_FALSE(std::filesystem::exists(dir / "x")) << b.args;
-    }
+    expect_refused(cli() + " sweep ", out, dir / "x",
+                   {BadArgs{"--study fig5_2,fig9_9", "fig9_9"},
+                    BadArgs{"--study fig5_2,", "--study"},
+                    BadArgs{"-j 0", "-j"},
+                    BadArgs{"--model warp", "warp"},
+                    BadArgs{"--model firmware --plant kinematic", "--plant kinematic"},
+                    BadArgs{"--plant /no/such.yaml", "/no/such.yaml"}});
 }
 
 }  // namespace

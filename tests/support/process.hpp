@@ -1,10 +1,12 @@
 #pragma once
 // Runs a command line through /bin/sh and captures its exit code, stdout and
 // stderr, for tests of the command-line front end.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -34,6 +36,27 @@ inline ProcessResult run_command(const std::string& command_line) {
     r.out = read_text(capture / "out");
     r.err = read_text(capture / "err");
     return r;
+}
+
+/// A bad-input case of a subcommand: its arguments and the text the one-line
+/// error must contain.
+struct BadArgs {
+    std::string args;
+    std::string named;
+};
+
+/// Runs `command_prefix + args + out_option` for each case and checks what
+/// every refusal must do: exit 2, one line on stderr naming the problem, and
+/// nothing created at `out`.
+inline void expect_refused(const std::string& command_prefix, const std::string& out_option,
+                           const std::filesystem::path& out, std::initializer_list<BadArgs> cases) {
+    for (const BadArgs& b : cases) {
+        const ProcessResult r = run_command(command_prefix + b.args + out_option);
+        EXPECT_EQ(r.exit_code, 2) << b.args;
+        EXPECT_NE(r.err.find(b.named), std::string::npos) << b.args << ": " << r.err;
+        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out)) << b.args;
+    }
 }
 
 /// Quotes a path for /bin/sh.

@@ -15,18 +15,7 @@ import math
 import os
 import sys
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:  # pragma: no cover - depends on the machine
-    sys.stderr.write("make_report.py: error: matplotlib is missing: apt-get install python3-matplotlib "
-                     "and run with /usr/bin/python3\n")
-    sys.exit(2)
-
-# Deterministic SVG: fixed ids, no date.
-matplotlib.rcParams["svg.hashsalt"] = "ddmr-hil"
-matplotlib.rcParams["figure.dpi"] = 100
+from plot_common import plt, save as save_figure
 
 # The reference sketch's goal circles: radius [m], period [s].
 CASES = {1: (0.6, 12.0), 2: (0.4, 8.0)}
@@ -45,9 +34,7 @@ def fmt_int(v):
 
 def save(fig, run_dir, name):
     fig.tight_layout()
-    fig.savefig(os.path.join(run_dir, name + ".png"), metadata={"Software": None})
-    fig.savefig(os.path.join(run_dir, name + ".svg"), metadata={"Date": None, "Creator": None})
-    plt.close(fig)
+    save_figure(fig, run_dir, name)
     return name
 
 

@@ -20,17 +20,7 @@ import json
 import os
 import sys
 
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except ImportError:  # pragma: no cover - depends on the machine
-    sys.stderr.write("plot_sweep.py: error: matplotlib is missing: apt-get install python3-matplotlib "
-                     "and run with /usr/bin/python3\n")
-    sys.exit(2)
-
-matplotlib.rcParams["svg.hashsalt"] = "ddmr-hil"
-matplotlib.rcParams["figure.dpi"] = 100
+from plot_common import plt, save as save_figure
 
 GAIN_LABEL = {"kx": "$K_x$", "ky": "$K_y$", "kw": "$K_w$"}
 FLOAT_COLUMNS = ("t_s", "x_m", "y_m", "theta_rad", "goal_x_m", "goal_y_m", "error_m", "xe_m", "ye_m",
@@ -59,12 +49,6 @@ def run_label(study, case, gain_value, trajectories):
     if study["varied"] == "none":
         return case_label(trajectories[case])
     return f"{GAIN_LABEL[study['varied']]} = {gain_value}"
-
-
-def save(fig, out_dir, name):
-    fig.savefig(os.path.join(out_dir, name + ".png"), metadata={"Software": None})
-    fig.savefig(os.path.join(out_dir, name + ".svg"), metadata={"Date": None, "Creator": None})
-    plt.close(fig)
 
 
 def plot_study(out_dir, sweep, study):
@@ -119,7 +103,7 @@ def plot_study(out_dir, sweep, study):
     fig.suptitle(f"{study['figure']} ({study['id']}): {study['title']}\n"
                  f"host simulation, model {sweep['model']}, plant {plant}", fontsize=10)
     fig.tight_layout()
-    save(fig, out_dir, study["id"])
+    save_figure(fig, out_dir, study["id"])
 
 
 def main(argv):
