@@ -1,5 +1,7 @@
 #include "hil/avr_core.hpp"
 
+#include <algorithm>
+
 #include <avr_extint.h>
 #include <avr_uart.h>
 #include <sim_avr.h>
@@ -141,13 +143,13 @@ RunStop AvrCore::run_until(Cycles target) {
     if (stop_requested_) return RunStop::kCondition;
     TargetFlag flag;
     avr_cycle_timer_register(avr, target - avr->cycle, &on_target, &flag);
-    if (instruction_hook_) {
+    if (!instruction_hooks_.empty()) {
         const Cycles saved_limit = avr->run_cycle_limit;
         avr->run_cycle_limit = 1;  // one instruction per avr_run
         avr->run_cycle_count = 1;
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
-            instruction_hook_();
+            for (const auto& h : instruction_hooks_) h.hook();
             if (state == cpu_Crashed || state == cpu_Done) break;
         }
         avr->run_cycle_limit = saved_limit;
@@ -161,6 +163,22 @@ RunStop AvrCore::run_until(Cycles target) {
     const RunStop stop = state_stop();
     if (stop == RunStop::kReachedCycle && stop_requested_) return RunStop::kCondition;
     return stop;
+}
+
+void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook) {
+    for (auto& h : instruction_hooks_) {
+        if (h.owner == owner) {
+            h.hook = std::move(hook);
+            return;
+        }
+    }
+    instruction_hooks_.push_back({owner, std::move(hook)});
+}
+
+void AvrCore::remove_instruction_hook(const void* owner) {
+    instruction_hooks_.erase(std::remove_if(instruction_hooks_.begin(), instruction_hooks_.end(),
+                                            [owner](const InstructionHook& h) { return h.owner == owner; }),
+                             instruction_hooks_.end());
 }
 
 void AvrCore::stop_after(Cycles delay) {

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "hil/cycle_time.hpp"
 #include "hil/elf_image.hpp"
@@ -70,10 +71,14 @@ public:
     /// part calls request_stop() / a stop_after() deadline passes (kCondition).
     RunStop run_until(Cycles target);
 
-    /// Called after every instruction while set (pass nullptr to clear):
-    /// run_until then steps one instruction per avr_run, which is exact but
-    /// slower (profiling). Keep it short; it must not throw.
-    void set_instruction_hook(std::function<void()> hook) { instruction_hook_ = std::move(hook); }
+    /// Adds a hook called after every instruction (in the order added) while
+    /// any hook is installed: run_until then steps one instruction per
+    /// avr_run, which is exact but slower (profiling, debugging). `owner`
+    /// identifies it for remove_instruction_hook(); one hook per owner (adding
+    /// again replaces it). Keep hooks short; they must not throw.
+    void add_instruction_hook(const void* owner, std::function<void()> hook);
+    void remove_instruction_hook(const void* owner);
+    bool has_instruction_hooks() const { return !instruction_hooks_.empty(); }
 
     /// Asks the running run_until to return after the current instruction
     /// batch. Safe to call from IRQ and cycle-timer callbacks.
@@ -115,7 +120,11 @@ private:
     SimavrLog log_;
     std::unique_ptr<avr_t, AvrDeleter> avr_;
     bool stop_requested_ = false;
-    std::function<void()> instruction_hook_;
+    struct InstructionHook {
+        const void* owner;
+        std::function<void()> hook;
+    };
+    std::vector<InstructionHook> instruction_hooks_;
 };
 
 }  // namespace ddmr::hil

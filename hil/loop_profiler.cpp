@@ -33,10 +33,10 @@ LoopProfiler::LoopProfiler(AvrCore& core, const ElfSymbol& mark) : core_(core) {
     begin_ = mark.address;
     end_ = mark.address + mark.size;
     iterations_.reserve(4096);
-    core_.set_instruction_hook([this] { on_instruction(); });
+    core_.add_instruction_hook(this, [this] { on_instruction(); });
 }
 
-LoopProfiler::~LoopProfiler() { core_.set_instruction_hook(nullptr); }
+LoopProfiler::~LoopProfiler() { core_.remove_instruction_hook(this); }
 
 void LoopProfiler::on_instruction() {
     const uint32_t pc = core_.pc();  // the next instruction to run
