@@ -51,6 +51,15 @@ void HallEncoder::reset(double angle_rad) {
     missed_.reset();
 }
 
+void HallEncoder::set_missed_edge_probability(double p) {
+    if (!(p >= 0.0 && p <= 0.5)) {
+        throw std::invalid_argument("encoder " + std::to_string(channel_ + 1) + " missed-edge probability " +
+                                    std::to_string(p) + ": must be in [0, 0.5]");
+    }
+    p_.missed_edge_probability = p;
+    missed_ = std::bernoulli_distribution(p);
+}
+
 std::int64_t HallEncoder::index_of(double angle_rad) const {
     return static_cast<std::int64_t>(std::floor(angle_rad / spacing_rad_ + p_.initial_phase));
 }

@@ -56,6 +56,10 @@ class HallEncoder {
     void process(const MotorStepper& motor, const MotorSegment& seg, double step_start_s,
                  double step_end_s, EdgeBuffer& out);
 
+    /// Changes the missed-edge probability from now on, [0, 0.5] (throws
+    /// std::invalid_argument); the generator keeps its state.
+    void set_missed_edge_probability(double p);
+
     [[nodiscard]] std::uint64_t edge_count() const { return count_; }
     [[nodiscard]] bool level() const { return level_; }
     /// Boundary spacing [rad] = 2 pi / edges_per_motor_rev.

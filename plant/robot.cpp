@@ -1,6 +1,9 @@
 #include "plant/robot.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace ddmr::plant {
 
@@ -47,6 +50,22 @@ void Robot::reset(const Pose& pose) {
     diverged_at_s_ = 0.0;
 }
 
+void Robot::set_faults(const RobotFaults& faults) {
+    validate(faults);
+    faults_ = faults;
+}
+
+void Robot::displace(const Pose& delta) {
+    state_.pose.x_m += delta.x_m;
+    state_.pose.y_m += delta.y_m;
+    state_.pose.theta_rad += delta.theta_rad;
+}
+
+void Robot::set_missed_edge_probability(std::size_t m, double p) {
+    if (m >= kMotorCount) throw std::invalid_argument("encoder index " + std::to_string(m) + " out of range");
+    encoder_[m].set_missed_edge_probability(p);
+}
+
 BodyVelocity Robot::body_velocity() const {
     return plant::body_velocity(params_.kinematics, wheel_speed_rad_s(0), wheel_speed_rad_s(1));
 }
@@ -67,6 +86,9 @@ double Robot::supply_current_A(std::size_t m) const {
 double Robot::supply_current_A() const { return supply_current_A(0) + supply_current_A(1); }
 
 double Robot::battery_voltage_V() const {
+    if (faults_.source_V) {
+        return std::max(*faults_.source_V - params_.battery.internal_resistance_ohm * supply_current_A(), 0.0);
+    }
     return terminal_voltage_V(params_.battery, state_.battery, supply_current_A());
 }
 
@@ -93,7 +115,7 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
     const BatteryParams& bp = params_.battery;
     const double rb = bp.internal_resistance_ohm;
     std::array<double, kMotorCount> other_supply_A{supply_current_A(1), supply_current_A(0)};
-    double source_V = source_voltage_V(bp, before.battery);
+    double source_V = faults_.source_V ? *faults_.source_V : source_voltage_V(bp, before.battery);
     for (int pass = 0; pass < 2; ++pass) {
         double supply_charge_C = 0.0;
         std::array<double, kMotorCount> mean_supply_A{};
@@ -102,6 +124,10 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
                                              source_V - rb * other_supply_A[m], rb);
             DcMotorState x = before.motor[m];
             stepper_[m].advance(x, u, h, scratch_[m]);
+            if (faults_.shaft_locked[m]) {  // held shaft: no motion, no back-EMF next step
+                x.speed_rad_s = 0.0;
+                x.angle_rad = before.motor[m].angle_rad;
+            }
             supply_charge_C += scratch_[m].supply_charge_C;
             mean_supply_A[m] = scratch_[m].supply_charge_C / h;
             state_.motor[m] = x;
@@ -110,7 +136,7 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
         if (pass == 1) break;
         BatteryState mid = before.battery;
         mid.charge_drawn_C += 0.5 * supply_charge_C;
-        const double mid_source_V = source_voltage_V(bp, mid);
+        const double mid_source_V = faults_.source_V ? *faults_.source_V : source_voltage_V(bp, mid);
         const std::array<double, kMotorCount> mid_other_A{mean_supply_A[1], mean_supply_A[0]};
         double change_V = std::abs(mid_source_V - source_V);
         for (std::size_t m = 0; m < kMotorCount; ++m) {
@@ -123,12 +149,14 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
     std::array<double, kMotorCount> wheel_turn_rad{};
     for (std::size_t m = 0; m < kMotorCount; ++m) {
         if (!std::isfinite(state_.motor[m].angle_rad)) continue;  // caught below
+        if (faults_.shaft_locked[m]) continue;                      // no rotation, no edges
         const MotorStepResult& r = scratch_[m];
         for (std::size_t k = 0; k < r.segment_count; ++k) {
             encoder_[m].process(stepper_[m], r.segments[k], before.t_s, before.t_s + h, edges);
         }
         wheel_turn_rad[m] =
-            (state_.motor[m].angle_rad - before.motor[m].angle_rad) / params_.motor[m].gear_ratio;
+            faults_.traction[m] * (state_.motor[m].angle_rad - before.motor[m].angle_rad) /
+            params_.motor[m].gear_ratio;
     }
     advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1]);
     state_.t_s += h;

@@ -28,6 +28,7 @@
 #include "plant/hall_encoder.hpp"
 #include "plant/l298_driver.hpp"
 #include "plant/motor_stepper.hpp"
+#include "plant/robot_faults.hpp"
 #include "plant/robot_params.hpp"
 
 namespace ddmr::plant {
@@ -95,6 +96,16 @@ class Robot {
     [[nodiscard]] StepStatus status() const { return status_; }
     [[nodiscard]] double diverged_at_s() const { return diverged_at_s_; }
     [[nodiscard]] const RobotState& state() const { return state_; }
+    // --- faults (robot_faults.hpp) ----------------------------------------
+    /// Applies `faults` from now on (validated; throws std::invalid_argument).
+    void set_faults(const RobotFaults& faults);
+    [[nodiscard]] const RobotFaults& faults() const { return faults_; }
+    /// Moves the robot by (dx, dy) in the inertial frame and turns it by
+    /// dtheta, as a push would; wheels and encoders are untouched.
+    void displace(const Pose& delta);
+    /// Probability that encoder m misses an edge from now on, [0, 0.5]
+    /// (throws std::invalid_argument); drawn from the encoder's seeded generator.
+    void set_missed_edge_probability(std::size_t m, double p);
     /// Overwrites the state (snapshots, tests). Does not move the encoders.
     void set_state(const RobotState& s) { state_ = s; }
     [[nodiscard]] const RobotParams& params() const { return params_; }
@@ -111,6 +122,7 @@ class Robot {
     std::array<HallEncoder, kMotorCount> encoder_;
     RobotInput input_{};
     RobotState state_{};
+    RobotFaults faults_{};
     StepStatus status_ = StepStatus::ok;
     double diverged_at_s_ = 0.0;
     std::array<MotorStepResult, kMotorCount> scratch_{};
