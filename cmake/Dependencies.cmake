@@ -9,6 +9,7 @@ find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(Threads REQUIRED)
 find_package(OpenSSL REQUIRED COMPONENTS Crypto)
+find_package(pugixml REQUIRED)  # JUnit XML of `ddmr-hil scenario`
 
 if(DDMR_WITH_HIL)
     # simavr 1.6: Debian ships only the static library and a pkg-config file.

@@ -86,6 +86,9 @@ public:
     /// Requests a stop exactly `delay` cycles from now (a cycle timer).
     void stop_after(Cycles delay);
     bool stop_requested() const { return stop_requested_; }
+    /// Forgets a stop request once the caller has acted on it, so the next
+    /// run_until runs again (scenario steps run the core many times).
+    void clear_stop_request() { stop_requested_ = false; }
 
     /// Runs one instruction at a time until `condition()` is true after an
     /// instruction, or `target` is reached. Slower than run_until(target):

@@ -47,7 +47,7 @@ namespace fs = std::filesystem;
 namespace hs = ddmr::hostsim;
 using nlohmann::json;
 
-constexpr int kIterationsPerSample = 10;  ///< the sketch logs every 10 iterations
+constexpr int kIterationsPerSample = kIterationsPerLogSample;
 
 struct CompareCli {
     std::string run_dir;
@@ -134,21 +134,6 @@ LoggedTrack logged_track(const fs::path& dir, const json& summary) {
     }
     if (track.points.empty()) throw std::runtime_error(dir.string() + ": the run has no logged samples to compare");
     return track;
-}
-
-/// The simulation's true position after 10 (k + 1) control periods.
-std::vector<Point2> sim_track(const hs::SimResult& r, const hs::SimConfig& c, std::size_t samples) {
-    std::vector<double> t, x, y;
-    for (const auto& s : r.samples) {
-        t.push_back(s.t_s);
-        x.push_back(s.x_m);
-        y.push_back(s.y_m);
-    }
-    std::vector<Point2> out;
-    for (std::size_t k = 0; k < samples; ++k) {
-        out.push_back(interpolate(t, x, y, static_cast<double>(kIterationsPerSample * (k + 1)) * c.period_s));
-    }
-    return out;
 }
 
 json metrics_json(const PairMetrics& m) {

@@ -39,4 +39,18 @@ Point2 interpolate(const std::vector<double>& t_s, const std::vector<double>& x_
     return {x_m[i - 1] + f * (x_m[i] - x_m[i - 1]), y_m[i - 1] + f * (y_m[i] - y_m[i - 1])};
 }
 
+std::vector<Point2> sim_track(const hostsim::SimResult& r, const hostsim::SimConfig& c, std::size_t samples) {
+    std::vector<double> t, x, y;
+    for (const auto& s : r.samples) {
+        t.push_back(s.t_s);
+        x.push_back(s.x_m);
+        y.push_back(s.y_m);
+    }
+    std::vector<Point2> out;
+    for (std::size_t k = 0; k < samples; ++k) {
+        out.push_back(interpolate(t, x, y, static_cast<double>(kIterationsPerLogSample * (k + 1)) * c.period_s));
+    }
+    return out;
+}
+
 }  // namespace ddmr::tools

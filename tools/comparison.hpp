@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "hostsim/host_sim.hpp"
+
 namespace ddmr::tools {
 
 struct Point2 {
@@ -33,5 +35,12 @@ PairMetrics compare_tracks(const std::vector<Point2>& a, const std::vector<Point
 /// `t_s` must be non-decreasing.
 Point2 interpolate(const std::vector<double>& t_s, const std::vector<double>& x_m,
                    const std::vector<double>& y_m, double t);
+
+/// The sketch writes one EEPROM log sample every 10 control iterations.
+inline constexpr int kIterationsPerLogSample = 10;
+
+/// The simulation's true position after 10 (k + 1) control periods, k <
+/// `samples`: the simulated counterpart of the EEPROM log's samples.
+std::vector<Point2> sim_track(const hostsim::SimResult& r, const hostsim::SimConfig& c, std::size_t samples);
 
 }  // namespace ddmr::tools

@@ -12,7 +12,7 @@ arduino-core-avr arduino-builder arduino-ctags
 libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
 libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libfmt-dev libssl-dev
 python3 python3-matplotlib
-gdb-avr
+gdb-avr libpugixml-dev patch
 "
 
 missing=""

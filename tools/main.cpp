@@ -11,6 +11,7 @@
 #include "compare_command.hpp"
 #include "plant_command.hpp"
 #include "run_command.hpp"
+#include "scenario_command.hpp"
 #include "sim_command.hpp"
 #include "sweep_command.hpp"
 
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
         ddmr::tools::register_plant_command(app),
         ddmr::tools::register_sim_command(app),
         ddmr::tools::register_sweep_command(app),
+        ddmr::tools::register_scenario_command(app),
     };
     try {
         app.parse(argc, argv);

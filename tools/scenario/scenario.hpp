@@ -1,0 +1,165 @@
+#pragma once
+// A scenario: one firmware regression test in AVR time (issue 7), as plain
+// data. Loaded and validated by scenario_yaml.hpp, run by scenario_runner.hpp.
+// The file format, every key, unit and default: docs/scenarios.md.
+//
+// Times are AVR cycles at the Uno's 16 MHz; lengths in m, angles in rad.
+// Paths are absolute (resolved against the scenario's folder at load time).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "hil/cycle_time.hpp"
+#include "hil/eeprom_write_timing.hpp"
+#include "hil/firmware_variables.hpp"
+#include "plant/l298_driver.hpp"
+#include "plant/robot_params.hpp"
+
+namespace ddmr::tools::scenario {
+
+using hil::Cycles;
+
+// --- Wokwi-compatible steps -------------------------------------------------
+struct Delay {  ///< `delay: 500ms`: let the AVR run
+    Cycles duration = 0;
+};
+struct WriteSerial {  ///< `write-serial: "1"`: bytes into the firmware's RX, at the adapter's baud
+    std::string text;
+};
+struct WaitSerial {  ///< `wait-serial: "END"`: run until the text is received (after the last match)
+    std::string text;
+    Cycles timeout = 0;
+};
+struct ExpectSerial {  ///< `expect-serial: regex`: the text received so far matches (ECMAScript search)
+    std::string pattern;
+};
+struct FailSerial {  ///< `fail-serial: regex`: from now on, any received line matching fails the scenario
+    std::string pattern;
+};
+struct WaitPin {  ///< `wait-pin: {pin: 12, value: 1, timeout: 1s}`
+    int pin = 0;
+    bool value = false;
+    Cycles timeout = 0;
+};
+struct ExpectPin {  ///< `expect-pin: {pin: 13, value: 1}`: the digital level now
+    int pin = 0;
+    bool value = false;
+};
+struct ExpectPwm {  ///< `expect-pwm: {pin: 10, duty: 0.4, tol: 0.02}`: the timer's duty now
+    int pin = 0;
+    double duty = 0.0;
+    double tol = 0.0;
+};
+
+// --- robot and firmware checks ---------------------------------------------
+enum class CompareOp { kEq, kNe, kLt, kLe, kGt, kGe };
+const char* to_string(CompareOp op);
+bool holds(double lhs, CompareOp op, double rhs);
+
+struct ExpectVar {  ///< `expect-var: {name: Count1, op: ">=", value: 7000}`
+    std::string name;
+    std::optional<hil::VarType> type;  ///< default by the symbol's size (1 uint8, 2 int16, 4 float)
+    CompareOp op = CompareOp::kEq;
+    double value = 0.0;
+};
+enum class PoseSource { kTruth, kFirmware };
+struct ExpectPose {  ///< `expect-pose: {source: truth, x_m: .., y_m: .., tol_m: ..}`
+    PoseSource source = PoseSource::kTruth;
+    double x_m = 0.0, y_m = 0.0;
+    double tol_m = 0.0;
+    std::optional<double> theta_rad;
+    double tol_rad = 0.0;
+};
+struct ExpectEeprom {  ///< raw bytes (`bin`) or the decoded log against a CSV (`log`, `tol_m`)
+    std::optional<std::filesystem::path> bin;
+    std::optional<std::filesystem::path> log;
+    double tol_m = 0.0;
+};
+struct ExpectCompare {  ///< the EEPROM log against the host simulation of `case`
+    int test_case = 1;
+    double max_rms_m = 0.0;
+    std::optional<double> max_endpoint_m;
+};
+/// A bound on a measured value: `value` (an upper bound) or `[min, max]`.
+struct Range {
+    std::optional<double> min, max;
+    bool set() const { return min || max; }
+    bool contains(double v) const { return (!min || v >= *min) && (!max || v <= *max); }
+};
+struct ExpectLoop {  ///< control-loop timing in us (turns on the exact loop profiler)
+    Range max_us, p99_us, mean_us;                      ///< compute part (top of the iteration to delay())
+    Range period_max_us, period_p99_us, period_mean_us;  ///< whole period
+    bool include_eeprom_writes = true;  ///< false: only iterations without an EEPROM write
+};
+struct ExpectIsr {  ///< `expect-isr: {vector: INT0, max_latency_cycles: 200}`
+    std::string vector;
+    std::optional<Cycles> max_latency_cycles, max_duration_cycles;
+    std::optional<uint64_t> min_count;
+};
+/// No read of Count1/Count2 split by its ISR returned a value the variable
+/// never held (a split read of an unchanged byte pattern is harmless).
+struct ExpectNoTornReads {};
+struct ExpectEncoders {  ///< `expect-encoders: {max_lost: 0}`: edges lost at the pins
+    uint64_t max_lost = 0;
+};
+
+// --- faults (at the step's time; `for:` ends them) --------------------------
+struct InjectDrop {  ///< `inject: {encoder: 1, drop: 0.05}`: seeded missed edges
+    int encoder = 1;
+    double drop = 0.0;
+    std::optional<Cycles> duration;
+};
+struct Stall {  ///< `stall: {motor: 2, for: 300ms}`: the shaft is held
+    int motor = 1;
+    Cycles duration = 0;
+};
+struct Battery {  ///< `battery: {volts: 5.2}`: an ideal source from now on
+    double volts = 0.0;
+    std::optional<Cycles> duration;
+};
+struct Slip {  ///< `slip: {wheel: 1, traction: 0.3, for: 500ms}`
+    int wheel = 1;
+    double traction = 1.0;
+    std::optional<Cycles> duration;
+};
+struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0}`: the robot is displaced
+    double dx_m = 0.0, dy_m = 0.0, dtheta_rad = 0.0;
+};
+struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
+
+using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
+                                ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
+                                ExpectIsr, ExpectNoTornReads, ExpectEncoders, InjectDrop, Stall, Battery, Slip,
+                                Push, Reset>;
+
+struct Step {
+    int line = 0;        ///< 1-based line in the scenario file
+    std::string kind;    ///< the step's key, e.g. "wait-serial"
+    std::string text;    ///< the step as written, for messages
+    StepAction action;
+};
+
+struct Scenario {
+    std::filesystem::path file;
+    std::string name;                    ///< default: the file's stem
+    std::string description;
+    std::filesystem::path firmware;      ///< ELF
+    plant::RobotParams plant = plant::default_robot_params();  ///< file + overrides + seed
+    std::optional<std::filesystem::path> plant_file;
+    plant::DriveMode pwm = plant::DriveMode::switched;
+    hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
+    uint64_t seed = 1;
+    Cycles timeout = 0;                  ///< simulated-time limit of the whole scenario
+    uint32_t baud = 9600;                ///< the host's serial adapter
+    std::optional<std::filesystem::path> eeprom_preload;
+    std::vector<Step> steps;
+    /// True if a step needs the exact loop profiler (expect-loop): the run
+    /// then single-steps and is about 3x slower.
+    bool needs_loop_profile() const;
+};
+
+}  // namespace ddmr::tools::scenario

@@ -1,0 +1,657 @@
+#include "scenario/scenario_runner.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/atomic_file.hpp"
+#include "common/truth_csv.hpp"
+#include "comparison.hpp"
+#include "exit_codes.hpp"
+#include "hil/atmega328p.hpp"
+#include "hil/eeprom_log.hpp"
+#include "hil/isr_monitor.hpp"
+#include "hil/loop_profiler.hpp"
+#include "hil/robot_rig.hpp"
+#include "hil/serial_line.hpp"
+#include "hil/torn_read_detector.hpp"
+#include "hostsim/host_sim.hpp"
+
+namespace ddmr::tools::scenario {
+namespace fs = std::filesystem;
+namespace chip = hil::atmega328p;
+namespace reg = hil::atmega328p::reg;
+using nlohmann::json;
+
+const char* to_string(Verdict v) {
+    switch (v) {
+        case Verdict::kPass: return "pass";
+        case Verdict::kFail: return "fail";
+        case Verdict::kFirmware: return "firmware";
+    }
+    return "?";
+}
+
+int exit_code(Verdict v) {
+    switch (v) {
+        case Verdict::kPass: return kExitOk;
+        case Verdict::kFail: return kExitCheckFailed;
+        case Verdict::kFirmware: return kExitFirmware;
+    }
+    return kExitFirmware;
+}
+
+namespace {
+
+/// Why a run segment ended early.
+enum class Halt { kNone, kFailSerial, kFirmware };
+
+/// A step that did not hold: ends the scenario with `verdict`.
+struct StepFailed {
+    Verdict verdict;
+    std::string message;
+};
+
+double us_of(Cycles c) { return hil::cycles_to_s(c, chip::kClockHz) * 1e6; }
+
+/// The data-space PIN/DDR/PORT registers and bit of an Uno pin.
+struct PinRegs {
+    uint16_t pin, ddr, port;
+    int bit;
+};
+PinRegs uno_pin_regs(int pin) {
+    if (pin <= 7) return {reg::kPinD, static_cast<uint16_t>(reg::kPinD + 1), reg::kPortD, pin};
+    if (pin <= 13) return {reg::kPinB, reg::kDdrB, reg::kPortB, pin - 8};
+    return {reg::kPinC, static_cast<uint16_t>(reg::kPinC + 1), reg::kPortC, pin - 14};
+}
+
+hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
+    const auto sym = elf.find(name);
+    if (!sym) throw StepFailed{Verdict::kFail, fmt::format("the firmware has no symbol '{}'", name)};
+    switch (sym->size) {
+        case 1: return hil::VarType::kUint8;
+        case 2: return hil::VarType::kInt16;
+        default:  // 4 bytes: long or float, the symbol table cannot tell
+            throw StepFailed{Verdict::kFail, fmt::format("'{}' has {} bytes: give its type (type: int32, uint32 or float)",
+                                                         name, sym->size)};
+    }
+}
+
+class Session {
+public:
+    Session(const Scenario& s, const fs::path& out_dir, bool progress)
+        : s_(s), out_dir_(out_dir), progress_(progress), elf_(hil::ElfImage::read(s.firmware)),
+          adapter_(static_cast<double>(chip::kClockHz) / s.baud) {
+        elf_.require_atmega328p();
+        if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload);
+        hil::RigConfig config;
+        config.plant = s.plant;
+        config.coupler.mode = s.pwm;
+        config.eeprom_timing = s.eeprom_timing;
+        rig_.emplace(elf_, config);
+        if (preload_) rig_->eeprom().preload(*preload_);
+        isr_.emplace(rig_->core(), elf_);
+        if (elf_.find("Count1") && elf_.find("Count2")) torn_.emplace(rig_->core(), elf_);
+        if (s.needs_loop_profile()) {
+            const auto mark = elf_.require("delay");
+            profiler_.emplace(rig_->core(), mark);
+        }
+        rig_->uart().set_listener([this](const hil::UartByte& b) { on_firmware_byte(b); });
+        rig_->coupler().set_boundary_hook([this](Cycles c) { on_boundary(c); });
+    }
+
+    ScenarioResult run() {
+        ScenarioResult r;
+        r.name = s_.name;
+        r.file = s_.file;
+        const auto wall0 = std::chrono::steady_clock::now();
+        prepare_output_dir(out_dir_);
+        AtomicFileWriter truth(out_dir_ / "truth.csv");
+        truth.write(truth_csv_header(/*with_drive=*/true));
+        std::string row;
+        rig_->coupler().set_truth_sink([&](const hil::TruthSample& t) {
+            row.clear();
+            append_truth_row(row, t, /*with_drive=*/true);
+            truth.write(row);
+        });
+        for (const Step& step : s_.steps) {
+            StepOutcome o{step.line, step.kind, step.text, false, 0, {}};
+            try {
+                o.message = execute(step);
+                o.passed = true;
+            } catch (const StepFailed& f) {
+                o.message = f.message;
+                r.verdict = f.verdict;
+            }
+            o.cycle = core().cycle();
+            r.steps.push_back(o);
+            if (progress_) {
+                std::fprintf(stderr, "  [%s] %s line %d %s t=%.3f s%s%s\n", s_.name.c_str(),
+                             o.passed ? "ok  " : "FAIL", o.line, o.kind.c_str(), seconds(o.cycle),
+                             o.message.empty() ? "" : ": ", o.message.c_str());
+            }
+            if (!o.passed) {
+                r.message = fmt::format("{}:{}: {} failed at t={:.6f} s: {}", s_.file.string(), o.line, o.kind,
+                                        seconds(o.cycle), o.message);
+                break;
+            }
+        }
+        // Bytes still on the wire reach the adapter.
+        std::vector<hil::LineByte> tail;
+        adapter_.flush(tail);
+        for (const auto& b : tail) receive(b);
+        r.cycles = core().cycle();
+        r.sim_seconds = seconds(r.cycles);
+        r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+        r.uart_text = text_;
+        r.framing_errors = adapter_.framing_errors();
+        write_artifacts(r);
+        truth.commit();
+        return r;
+    }
+
+private:
+    hil::AvrCore& core() { return rig_->core(); }
+    double seconds(Cycles c) const { return hil::cycles_to_s(c, chip::kClockHz); }
+
+    // --- serial: firmware -> adapter ------------------------------------
+    /// The firmware's USART0 bit time now, from UBRR0 and U2X0.
+    double firmware_bit_cycles() {
+        const auto ubrr = static_cast<uint16_t>(((core().data(reg::kUbrr0H) & 0x0F) << 8) | core().data(reg::kUbrr0L));
+        const bool u2x = (core().data(reg::kUcsr0A) & 0x02) != 0;
+        return hil::SerialLine::avr_bit_cycles(ubrr, u2x);
+    }
+    void on_firmware_byte(const hil::UartByte& b) {
+        scratch_.clear();
+        adapter_.push(static_cast<double>(b.cycle), b.value, firmware_bit_cycles(), scratch_);
+        for (const auto& lb : scratch_) receive(lb);
+    }
+    void receive(const hil::LineByte& b) {
+        text_.push_back(static_cast<char>(b.value));
+        if (b.value == '\n') {
+            check_fail_patterns(line_, static_cast<Cycles>(b.cycle));
+            line_.clear();
+        } else if (b.value != '\r') {
+            line_.push_back(static_cast<char>(b.value));
+        }
+        if (wait_text_ && text_.find(*wait_text_, cursor_) != std::string::npos) core().request_stop();
+    }
+    void check_fail_patterns(const std::string& line, Cycles cycle) {
+        if (halt_ != Halt::kNone) return;
+        for (const auto& [pattern, re] : fail_patterns_) {
+            if (std::regex_search(line, re)) {
+                halt_ = Halt::kFailSerial;
+                halt_message_ = fmt::format("fail-serial '{}' matched the line '{}' at t={:.6f} s", pattern, line,
+                                            seconds(cycle));
+                core().request_stop();
+                return;
+            }
+        }
+    }
+
+    // --- host -> firmware: bytes the firmware's receiver makes of the adapter's frames
+    std::string as_firmware_receives(const std::string& text) {
+        hil::SerialLine firmware_rx(firmware_bit_cycles());
+        std::vector<hil::LineByte> got;
+        double t = 0.0;
+        const double bit = static_cast<double>(chip::kClockHz) / s_.baud;
+        for (const char c : text) {
+            firmware_rx.push(t, static_cast<uint8_t>(c), bit, got);
+            t += 10.0 * bit;
+        }
+        firmware_rx.flush(got);
+        std::string out;
+        for (const auto& b : got) out.push_back(static_cast<char>(b.value));
+        return out;
+    }
+
+    // --- timed actions and the boundary poll -----------------------------
+    void on_boundary(Cycles c) {
+        if (boundary_condition_ && boundary_condition_()) core().request_stop();
+        (void)c;
+    }
+    void at(Cycles cycle, std::function<void()> action) {
+        timed_.push_back({cycle, std::move(action)});
+        std::stable_sort(timed_.begin(), timed_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    }
+    /// Runs to `target` or until `done()` (checked whenever the run stops
+    /// early); throws StepFailed on a firmware failure, the scenario timeout
+    /// or a fail-serial match. Returns true if done() became true.
+    bool advance(Cycles target, const std::function<bool()>& done = {}) {
+        while (true) {
+            if (done && done()) return true;
+            if (core().cycle() >= target) return false;
+            if (core().cycle() >= s_.timeout) {
+                throw StepFailed{Verdict::kFirmware,
+                                 fmt::format("timeout after {} simulated s (the scenario's timeout)", seconds(s_.timeout))};
+            }
+            Cycles next = std::min(target, s_.timeout);
+            if (!timed_.empty()) next = std::min(next, std::max(timed_.front().first, core().cycle()));
+            const hil::RunStop stop = next > core().cycle() ? core().run_until(next) : hil::RunStop::kReachedCycle;
+            if (rig_->coupler().status() != plant::StepStatus::ok) {
+                const plant::Pose& p = rig_->robot().pose();
+                throw StepFailed{Verdict::kFirmware,
+                                 fmt::format("plant {} at t={:.6f} s (last finite pose x={:.6g} m, y={:.6g} m)",
+                                             plant::to_string(rig_->coupler().status()), rig_->coupler().failed_at_s(),
+                                             p.x_m, p.y_m)};
+            }
+            if (stop == hil::RunStop::kCrashed) {
+                throw StepFailed{Verdict::kFirmware, fmt::format("crashed at PC 0x{:04x}, cycle {}", core().pc(), core().cycle())};
+            }
+            if (stop == hil::RunStop::kDone) {
+                throw StepFailed{Verdict::kFirmware,
+                                 fmt::format("the firmware slept with interrupts off at PC 0x{:04x}, cycle {}", core().pc(),
+                                             core().cycle())};
+            }
+            if (halt_ == Halt::kFailSerial) throw StepFailed{Verdict::kFail, halt_message_};
+            clear_stop();
+            while (!timed_.empty() && timed_.front().first <= core().cycle()) {
+                auto action = std::move(timed_.front().second);
+                timed_.erase(timed_.begin());
+                action();
+            }
+        }
+    }
+    void clear_stop() { core().clear_stop_request(); }
+
+    // --- steps ------------------------------------------------------------
+    std::string execute(const Step& step) {
+        return std::visit([&](const auto& a) { return run_step(a); }, step.action);
+    }
+
+    std::string run_step(const Delay& d) {
+        advance(core().cycle() + d.duration);
+        return {};
+    }
+    std::string run_step(const WriteSerial& w) {
+        if (!armed_) {
+            if (profiler_) profiler_->arm();
+            origin_cycle_ = core().cycle();
+            armed_ = true;
+        }
+        const std::string bytes = as_firmware_receives(w.text);
+        rig_->uart().send(bytes);
+        if (bytes != w.text) return fmt::format("the firmware's receiver made {} byte(s) of it", bytes.size());
+        return {};
+    }
+    std::string run_step(const WaitSerial& w) {
+        const Cycles start = core().cycle();
+        wait_text_ = w.text;
+        const bool found = advance(start + w.timeout, [&] { return text_.find(w.text, cursor_) != std::string::npos; });
+        wait_text_.reset();
+        if (!found) {
+            const std::string tail = text_.size() > 60 ? "..." + text_.substr(text_.size() - 60) : text_;
+            throw StepFailed{Verdict::kFail,
+                             fmt::format("expected '{}' within {:.3f} s; received {} bytes ({} framing errors), ending '{}'",
+                                         w.text, seconds(w.timeout), text_.size(), adapter_.framing_errors(),
+                                         printable(tail))};
+        }
+        cursor_ = text_.find(w.text, cursor_) + w.text.size();
+        return {};
+    }
+    std::string run_step(const ExpectSerial& e) {
+        if (!std::regex_search(text_, std::regex(e.pattern))) {
+            throw StepFailed{Verdict::kFail, fmt::format("expected the output to match /{}/; it does not ({} bytes)",
+                                                         e.pattern, text_.size())};
+        }
+        return {};
+    }
+    std::string run_step(const FailSerial& f) {
+        fail_patterns_.emplace_back(f.pattern, std::regex(f.pattern));
+        return {};
+    }
+    bool pin_level(int pin) {
+        const PinRegs r = uno_pin_regs(pin);
+        const auto& board = rig_->config().board;
+        for (std::size_t m = 0; m < 2; ++m) {
+            if (board.motor[m].enable_pin == pin) {
+                rig_->driver().advance_to(core().cycle());
+                const auto& d = rig_->driver().drive(m);
+                if (d.pwm_connected && d.timer_running) return d.enable_level_at(core().cycle());
+            }
+        }
+        const bool output = (core().data(r.ddr) >> r.bit) & 1U;
+        return ((core().data(output ? r.port : r.pin) >> r.bit) & 1U) != 0;
+    }
+    std::string run_step(const WaitPin& w) {
+        const Cycles start = core().cycle();
+        boundary_condition_ = [&] { return pin_level(w.pin) == w.value; };
+        const bool ok = advance(start + w.timeout, [&] { return pin_level(w.pin) == w.value; });
+        boundary_condition_ = nullptr;
+        if (!ok) {
+            throw StepFailed{Verdict::kFail, fmt::format("expected pin {} to become {} within {:.3f} s; it stayed {}",
+                                                         w.pin, w.value ? 1 : 0, seconds(w.timeout),
+                                                         pin_level(w.pin) ? 1 : 0)};
+        }
+        return fmt::format("(polled every {} cycles)", rig_->coupler().config().step_cycles);
+    }
+    std::string run_step(const ExpectPin& e) {
+        const bool level = pin_level(e.pin);
+        if (level != e.value) {
+            throw StepFailed{Verdict::kFail, fmt::format("expected pin {} = {}, got {}", e.pin, e.value ? 1 : 0, level ? 1 : 0)};
+        }
+        return {};
+    }
+    std::string run_step(const ExpectPwm& e) {
+        const auto& board = rig_->config().board;
+        for (std::size_t m = 0; m < 2; ++m) {
+            if (board.motor[m].enable_pin != e.pin) continue;
+            rig_->driver().advance_to(core().cycle());
+            const double duty = rig_->driver().drive(m).duty();
+            if (std::abs(duty - e.duty) > e.tol) {
+                throw StepFailed{Verdict::kFail,
+                                 fmt::format("expected pin {} duty {:.4f} +- {:.4f}, got {:.4f}", e.pin, e.duty, e.tol, duty)};
+            }
+            return fmt::format("duty {:.4f}", duty);
+        }
+        throw StepFailed{Verdict::kFail, fmt::format("pin {} is not a motor enable pin on this board", e.pin)};
+    }
+    std::string run_step(const ExpectVar& e) {
+        const hil::VarType type = e.type ? *e.type : default_type(elf_, e.name);
+        double v = 0.0;
+        try {
+            v = rig_->variables().read(e.name, type);
+        } catch (const std::exception& ex) {
+            throw StepFailed{Verdict::kFail, ex.what()};
+        }
+        if (!holds(v, e.op, e.value)) {
+            throw StepFailed{Verdict::kFail, fmt::format("expected {} {} {:.9g}, got {:.9g}", e.name, to_string(e.op), e.value, v)};
+        }
+        return fmt::format("{} = {:.9g}", e.name, v);
+    }
+    std::string run_step(const ExpectPose& e) {
+        plant::Pose p;
+        if (e.source == PoseSource::kTruth) {
+            p = rig_->robot().pose();
+        } else {
+            const auto& vars = rig_->variables();
+            p = {vars.read("Ex", hil::VarType::kFloat), vars.read("Ey", hil::VarType::kFloat),
+                 vars.read("Theta", hil::VarType::kFloat)};
+        }
+        const double d = std::hypot(p.x_m - e.x_m, p.y_m - e.y_m);
+        const char* src = e.source == PoseSource::kTruth ? "truth" : "firmware";
+        if (d > e.tol_m || (e.theta_rad && std::abs(p.theta_rad - *e.theta_rad) > e.tol_rad)) {
+            throw StepFailed{Verdict::kFail,
+                             fmt::format("expected the {} pose within {} m of ({:.4f}, {:.4f}){}; got ({:.4f}, {:.4f}) "
+                                         "theta {:.4f} rad, {:.4f} m away",
+                                         src, e.tol_m, e.x_m, e.y_m,
+                                         e.theta_rad ? fmt::format(", theta {:.4f} +- {}", *e.theta_rad, e.tol_rad) : "",
+                                         p.x_m, p.y_m, p.theta_rad, d)};
+        }
+        return fmt::format("{} pose ({:.4f}, {:.4f}) theta {:.4f}, {:.4f} m away", src, p.x_m, p.y_m, p.theta_rad, d);
+    }
+    std::vector<hil::EepromLogSample> eeprom_log() {
+        const hil::EepromImage image = rig_->eeprom().read_all();
+        const hil::EepromLogTiming timing =
+            hil::eeprom_log_timing(rig_->eeprom_timing().writes(), origin_cycle_, chip::kClockHz);
+        return hil::decode_eeprom_log(image, timing.sample_count, timing.times_s);
+    }
+    std::string run_step(const ExpectEeprom& e) {
+        std::string note;
+        if (e.bin) {
+            std::ifstream in(*e.bin, std::ios::binary);
+            const std::string want((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            const hil::EepromImage image = rig_->eeprom().read_all();
+            if (want.size() != image.size()) {
+                throw StepFailed{Verdict::kFail, fmt::format("{} has {} bytes, the EEPROM {}", e.bin->string(), want.size(), image.size())};
+            }
+            for (std::size_t a = 0; a < image.size(); ++a) {
+                if (static_cast<uint8_t>(want[a]) != image[a]) {
+                    throw StepFailed{Verdict::kFail, fmt::format("EEPROM byte 0x{:03x}: expected 0x{:02x}, got 0x{:02x}", a,
+                                                                 static_cast<uint8_t>(want[a]), image[a])};
+                }
+            }
+            note = "1024 bytes equal";
+        }
+        if (e.log) {
+            const auto log = eeprom_log();
+            std::ifstream in(*e.log);
+            std::string header, line;
+            std::getline(in, header);
+            std::size_t k = 0;
+            double worst = 0.0;
+            while (std::getline(in, line)) {
+                if (line.empty()) continue;
+                std::istringstream ls(line);
+                std::string f0, f1, f2, f3;
+                std::getline(ls, f0, ',');
+                std::getline(ls, f1, ',');
+                std::getline(ls, f2, ',');
+                std::getline(ls, f3, ',');
+                if (k >= log.size()) {
+                    throw StepFailed{Verdict::kFail, fmt::format("the EEPROM log has {} samples, {} has more", log.size(), e.log->string())};
+                }
+                const double d = std::hypot(log[k].x_m - std::stod(f2), log[k].y_m - std::stod(f3));
+                worst = std::max(worst, d);
+                if (d > e.tol_m) {
+                    throw StepFailed{Verdict::kFail, fmt::format("EEPROM log sample {}: ({:.3f}, {:.3f}) is {:.4f} m from "
+                                                                 "({}, {}) in {}, tolerance {} m",
+                                                                 k + 1, log[k].x_m, log[k].y_m, d, f2, f3,
+                                                                 e.log->filename().string(), e.tol_m)};
+                }
+                ++k;
+            }
+            if (k != log.size()) {
+                throw StepFailed{Verdict::kFail, fmt::format("the EEPROM log has {} samples, {} has {}", log.size(),
+                                                             e.log->filename().string(), k)};
+            }
+            note += fmt::format("{}{} samples within {:.4f} m", note.empty() ? "" : "; ", k, worst);
+        }
+        return note;
+    }
+    std::string run_step(const ExpectCompare& e) {
+        const auto log = eeprom_log();
+        if (log.empty()) throw StepFailed{Verdict::kFail, "the EEPROM log is empty: nothing to compare"};
+        namespace hs = ddmr::hostsim;
+        hs::SimConfig c = hs::config_for_case(e.test_case, hs::Model::firmware);
+        c.plant = s_.plant;
+        c.pwm = s_.pwm == plant::DriveMode::switched ? hs::PwmModel::switched : hs::PwmModel::averaged;
+        c.fidelity = hs::Fidelity::all();
+        c.duration_s = std::max(c.duration_s, static_cast<double>(kIterationsPerLogSample * log.size()) * c.period_s + 0.05);
+        hs::validate(c);
+        const hs::SimResult sim = hs::simulate(c);
+        std::vector<Point2> logged;
+        for (const auto& p : log) logged.push_back({p.x_m, p.y_m});
+        const PairMetrics m = compare_tracks(logged, sim_track(sim, c, logged.size()));
+        if (m.rms_m > e.max_rms_m || (e.max_endpoint_m && m.endpoint_m > *e.max_endpoint_m)) {
+            throw StepFailed{Verdict::kFail,
+                             fmt::format("EEPROM log vs host simulation (case {}): rms {:.4f} m (max {}), endpoint {:.4f} m{}",
+                                         e.test_case, m.rms_m, e.max_rms_m, m.endpoint_m,
+                                         e.max_endpoint_m ? fmt::format(" (max {})", *e.max_endpoint_m) : "")};
+        }
+        return fmt::format("rms {:.4f} m, endpoint {:.4f} m over {} samples", m.rms_m, m.endpoint_m, m.samples);
+    }
+    std::string run_step(const ExpectLoop& e) {
+        std::vector<Cycles> write_cycles;
+        for (const auto& w : rig_->eeprom_timing().writes()) write_cycles.push_back(w.cycle);
+        profiler_->tag_eeprom_writes(write_cycles);
+        std::vector<Cycles> compute, period;
+        for (const auto& it : profiler_->iterations()) {
+            if (!e.include_eeprom_writes && it.eeprom_write) continue;
+            compute.push_back(it.compute());
+            period.push_back(it.period());
+        }
+        if (compute.empty()) throw StepFailed{Verdict::kFail, "no complete control-loop iteration was seen"};
+        const auto c = hil::cycle_distribution(compute);
+        const auto p = hil::cycle_distribution(period);
+        const std::vector<std::tuple<const char*, const Range*, double>> checks = {
+            {"max_us", &e.max_us, us_of(c.max)},          {"p99_us", &e.p99_us, us_of(c.p99)},
+            {"mean_us", &e.mean_us, c.mean * 1e6 / chip::kClockHz},
+            {"period_max_us", &e.period_max_us, us_of(p.max)}, {"period_p99_us", &e.period_p99_us, us_of(p.p99)},
+            {"period_mean_us", &e.period_mean_us, p.mean * 1e6 / chip::kClockHz},
+        };
+        for (const auto& [name, range, value] : checks) {
+            if (range->set() && !range->contains(value)) {
+                throw StepFailed{Verdict::kFail, fmt::format("expected {} in [{}, {}], got {:.1f} ({} iterations)", name,
+                                                             range->min ? fmt::format("{}", *range->min) : "-",
+                                                             range->max ? fmt::format("{}", *range->max) : "-", value,
+                                                             c.count)};
+            }
+        }
+        return fmt::format("{} iterations: compute max {:.1f} p99 {:.1f} mean {:.1f} us; period max {:.1f} p99 {:.1f} mean {:.1f} us",
+                           c.count, us_of(c.max), us_of(c.p99), c.mean * 1e6 / chip::kClockHz, us_of(p.max),
+                           us_of(p.p99), p.mean * 1e6 / chip::kClockHz);
+    }
+    std::string run_step(const ExpectIsr& e) {
+        const hil::IsrSummary s = isr_->summary();
+        for (const auto& v : s.vectors) {
+            if (v.name != e.vector) continue;
+            if (e.min_count && v.count < *e.min_count) {
+                throw StepFailed{Verdict::kFail, fmt::format("expected {} to run at least {} times, it ran {}", e.vector, *e.min_count, v.count)};
+            }
+            if (e.max_latency_cycles && v.latency.max > *e.max_latency_cycles) {
+                throw StepFailed{Verdict::kFail, fmt::format("expected {} entry latency <= {} cycles, worst {} cycles",
+                                                             e.vector, *e.max_latency_cycles, v.latency.max)};
+            }
+            if (e.max_duration_cycles && v.duration.max > *e.max_duration_cycles) {
+                throw StepFailed{Verdict::kFail, fmt::format("expected {} duration <= {} cycles, longest {} cycles",
+                                                             e.vector, *e.max_duration_cycles, v.duration.max)};
+            }
+            return fmt::format("{}: {} entries, latency max {} cycles, duration max {} cycles", v.name, v.count,
+                               v.latency.max, v.duration.max);
+        }
+        if (e.min_count && *e.min_count == 0) return fmt::format("{} never ran", e.vector);
+        throw StepFailed{Verdict::kFail, fmt::format("interrupt {} never ran", e.vector)};
+    }
+    std::string run_step(const ExpectNoTornReads&) {
+        if (!torn_) throw StepFailed{Verdict::kFail, "the firmware has no Count1/Count2 to watch"};
+        std::string note;
+        for (std::size_t v = 0; v < 2; ++v) {
+            const auto& st = torn_->stats(v);
+            const char* name = v == 0 ? "Count1" : "Count2";
+            if (st.visible > 0) {
+                throw StepFailed{Verdict::kFail, fmt::format("{} torn read(s) of {} returned a value it never held "
+                                                             "({} reads split by its ISR)",
+                                                             st.visible, name, st.split_reads)};
+            }
+            note += fmt::format("{}{}: {} reads split by its ISR, {} changed it mid-read, none returned a value it never held",
+                                note.empty() ? "" : "; ", name, st.split_reads, st.torn);
+        }
+        return note;
+    }
+    std::string run_step(const ExpectEncoders& e) {
+        uint64_t lost = 0;
+        for (unsigned ch = 0; ch < 2; ++ch) lost += rig_->encoders().stats(ch).lost_edges;
+        if (lost > e.max_lost) throw StepFailed{Verdict::kFail, fmt::format("expected at most {} lost encoder edges, {} were lost", e.max_lost, lost)};
+        return fmt::format("{} edges lost", lost);
+    }
+    void set_faults(const std::function<void(plant::RobotFaults&)>& change) {
+        plant::RobotFaults f = rig_->robot().faults();
+        change(f);
+        rig_->robot().set_faults(f);
+    }
+    std::string run_step(const InjectDrop& d) {
+        const auto m = static_cast<std::size_t>(d.encoder - 1);
+        rig_->robot().set_missed_edge_probability(m, d.drop);
+        if (d.duration) at(core().cycle() + *d.duration, [this, m] { rig_->robot().set_missed_edge_probability(m, 0.0); });
+        return {};
+    }
+    std::string run_step(const Stall& st) {
+        const auto m = static_cast<std::size_t>(st.motor - 1);
+        set_faults([m](plant::RobotFaults& f) { f.shaft_locked[m] = true; });
+        at(core().cycle() + st.duration, [this, m] { set_faults([m](plant::RobotFaults& f) { f.shaft_locked[m] = false; }); });
+        return {};
+    }
+    std::string run_step(const Battery& b) {
+        set_faults([&](plant::RobotFaults& f) { f.source_V = b.volts; });
+        if (b.duration) at(core().cycle() + *b.duration, [this] { set_faults([](plant::RobotFaults& f) { f.source_V.reset(); }); });
+        return {};
+    }
+    std::string run_step(const Slip& sl) {
+        const auto m = static_cast<std::size_t>(sl.wheel - 1);
+        set_faults([&](plant::RobotFaults& f) { f.traction[m] = sl.traction; });
+        if (sl.duration) at(core().cycle() + *sl.duration, [this, m] { set_faults([m](plant::RobotFaults& f) { f.traction[m] = 1.0; }); });
+        return {};
+    }
+    std::string run_step(const Push& p) {
+        rig_->robot().displace(plant::Pose{p.dx_m, p.dy_m, p.dtheta_rad});
+        return {};
+    }
+    std::string run_step(const Reset&) {
+        throw StepFailed{Verdict::kFail, "reset is not supported by this version"};
+    }
+
+    static std::string printable(const std::string& s) {
+        std::string out;
+        for (const char c : s) {
+            const auto u = static_cast<unsigned char>(c);
+            if (c == '\n') out += "\\n";
+            else if (c == '\r') out += "\\r";
+            else if (u < 0x20 || u >= 0x7F) out += fmt::format("\\x{:02x}", u);
+            else out.push_back(c);
+        }
+        return out;
+    }
+
+    void write_artifacts(const ScenarioResult& r) {
+        json steps = json::array();
+        for (const auto& o : r.steps) {
+            steps.push_back({{"line", o.line}, {"kind", o.kind}, {"step", o.text}, {"passed", o.passed},
+                             {"cycle", o.cycle}, {"t_s", seconds(o.cycle)}, {"message", o.message}});
+        }
+        const json result = {
+            {"name", r.name},
+            {"file", r.file.string()},
+            {"firmware", s_.firmware.string()},
+            {"seed", s_.seed},
+            {"baud", s_.baud},
+            {"verdict", to_string(r.verdict)},
+            {"exit_code", exit_code(r.verdict)},
+            {"message", r.message},
+            {"cycles", r.cycles},
+            {"sim_seconds", r.sim_seconds},
+            {"steps", steps},
+            {"steps_total", s_.steps.size()},
+            {"uart_bytes", r.uart_text.size()},
+            {"framing_errors", r.framing_errors},
+        };
+        const hil::EepromImage image = rig_->eeprom().read_all();
+        write_file_atomic(out_dir_ / "uart.txt", r.uart_text);
+        write_file_atomic(out_dir_ / "eeprom.bin",
+                          std::string_view(reinterpret_cast<const char*>(image.data()), image.size()));
+        write_file_atomic(out_dir_ / "isr.md", hil::to_markdown(isr_->summary()));
+        write_file_atomic(out_dir_ / "eeprom_log.csv", hil::eeprom_log_csv(eeprom_log()));
+        // wall time is not deterministic: it goes to stdout, not into result.json
+        write_file_atomic(out_dir_ / "result.json", result.dump(2) + "\n");
+    }
+
+    const Scenario& s_;
+    fs::path out_dir_;
+    bool progress_;
+    hil::ElfImage elf_;
+    std::optional<hil::EepromImage> preload_;
+    std::optional<hil::RobotRig> rig_;
+    std::optional<hil::IsrMonitor> isr_;
+    std::optional<hil::TornReadDetector> torn_;
+    std::optional<hil::LoopProfiler> profiler_;
+    bool armed_ = false;
+    hil::SerialLine adapter_;
+    std::vector<hil::LineByte> scratch_;
+    std::string text_, line_;
+    std::size_t cursor_ = 0;
+    std::optional<std::string> wait_text_;
+    std::vector<std::pair<std::string, std::regex>> fail_patterns_;
+    Halt halt_ = Halt::kNone;
+    std::string halt_message_;
+    std::function<bool()> boundary_condition_;
+    std::vector<std::pair<Cycles, std::function<void()>>> timed_;
+    Cycles origin_cycle_ = 0;  ///< the first write-serial: the EEPROM log's time origin
+};
+
+}  // namespace
+
+ScenarioResult run_scenario(const Scenario& s, const fs::path& out_dir, bool progress) {
+    Session session(s, out_dir, progress);
+    return session.run();
+}
+
+}  // namespace ddmr::tools::scenario

@@ -1,0 +1,504 @@
+#include "scenario/scenario_yaml.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "hil/atmega328p.hpp"
+#include "hil/board.hpp"
+#include "plant/params_yaml.hpp"
+
+namespace ddmr::tools::scenario {
+namespace fs = std::filesystem;
+
+const char* to_string(CompareOp op) {
+    switch (op) {
+        case CompareOp::kEq: return "==";
+        case CompareOp::kNe: return "!=";
+        case CompareOp::kLt: return "<";
+        case CompareOp::kLe: return "<=";
+        case CompareOp::kGt: return ">";
+        case CompareOp::kGe: return ">=";
+    }
+    return "?";
+}
+
+bool holds(double lhs, CompareOp op, double rhs) {
+    switch (op) {
+        case CompareOp::kEq: return lhs == rhs;
+        case CompareOp::kNe: return lhs != rhs;
+        case CompareOp::kLt: return lhs < rhs;
+        case CompareOp::kLe: return lhs <= rhs;
+        case CompareOp::kGt: return lhs > rhs;
+        case CompareOp::kGe: return lhs >= rhs;
+    }
+    return false;
+}
+
+bool Scenario::needs_loop_profile() const {
+    return std::any_of(steps.begin(), steps.end(),
+                       [](const Step& s) { return std::holds_alternative<ExpectLoop>(s.action); });
+}
+
+Cycles parse_duration(std::string_view text, uint32_t clock_hz) {
+    const std::string s(text);
+    static const std::regex re(R"(^\s*([0-9]+(?:\.[0-9]*)?(?:[eE][+-]?[0-9]+)?)\s*(s|ms|us|cycles)\s*$)");
+    std::smatch m;
+    if (!std::regex_match(s, m, re)) {
+        throw std::invalid_argument(fmt::format(
+            "duration '{}': expected a non-negative number with a unit (s, ms, us or cycles), e.g. 500ms", s));
+    }
+    const double value = std::stod(m[1].str());
+    const std::string unit = m[2].str();
+    const double scale = unit == "s" ? clock_hz : unit == "ms" ? clock_hz / 1e3 : unit == "us" ? clock_hz / 1e6 : 1.0;
+    const double cycles = std::round(value * scale);
+    if (!std::isfinite(cycles) || cycles > 1e15) {
+        throw std::invalid_argument(fmt::format("duration '{}': too large", s));
+    }
+    return static_cast<Cycles>(cycles);
+}
+
+namespace {
+
+/// The YAML node of one key with its location, for messages.
+class Ctx {
+public:
+    Ctx(const fs::path& file, const YAML::Node& node, std::string key)
+        : file_(file), node_(node), key_(std::move(key)) {}
+    [[noreturn]] void fail(const std::string& what) const {
+        throw ScenarioError(fmt::format("{}:{}: key '{}': {}", file_.string(), line(), key_, what));
+    }
+    int line() const { return node_.Mark().line + 1; }
+    const YAML::Node& node() const { return node_; }
+    const std::string& key() const { return key_; }
+    const fs::path& file() const { return file_; }
+
+    Ctx child(const std::string& key) const { return Ctx(file_, node_[key], key_ + "." + key); }
+
+    std::string str() const {
+        if (!node_.IsScalar()) fail("expected a string");
+        return node_.Scalar();
+    }
+    double number() const {
+        if (!node_.IsScalar()) fail("expected a number");
+        double v = 0.0;
+        try {
+            std::size_t used = 0;
+            v = std::stod(node_.Scalar(), &used);
+            if (used != node_.Scalar().size()) throw std::invalid_argument("trailing text");
+        } catch (const std::exception&) {
+            fail(fmt::format("'{}' is not a number", node_.Scalar()));
+        }
+        if (!std::isfinite(v)) fail(fmt::format("'{}' is not a finite number", node_.Scalar()));
+        return v;
+    }
+    double number_in(double lo, double hi, const char* range) const {
+        const double v = number();
+        if (!(v >= lo && v <= hi)) fail(fmt::format("{} is out of range {}", node_.Scalar(), range));
+        return v;
+    }
+    int integer_in(int lo, int hi) const {
+        const double v = number();
+        if (v != std::floor(v) || v < lo || v > hi) {
+            fail(fmt::format("{} is not an integer in [{}, {}]", node_.Scalar(), lo, hi));
+        }
+        return static_cast<int>(v);
+    }
+    uint64_t count() const {
+        const double v = number();
+        if (v != std::floor(v) || v < 0 || v > 9.007e15) fail(fmt::format("{} is not a non-negative integer", node_.Scalar()));
+        return static_cast<uint64_t>(v);
+    }
+    bool boolean() const {
+        if (!node_.IsScalar()) fail("expected true/false or 1/0");
+        const std::string& s = node_.Scalar();
+        if (s == "true" || s == "1" || s == "high" || s == "HIGH") return true;
+        if (s == "false" || s == "0" || s == "low" || s == "LOW") return false;
+        fail(fmt::format("'{}' is not a level (1/0, true/false, high/low)", s));
+    }
+    Cycles duration() const {
+        try {
+            return parse_duration(str(), hil::atmega328p::kClockHz);
+        } catch (const std::invalid_argument& e) {
+            fail(e.what());
+        }
+    }
+    /// Refuses keys outside `allowed`; requires those in `required`.
+    void keys(std::initializer_list<const char*> allowed, std::initializer_list<const char*> required = {}) const {
+        if (!node_.IsMap()) fail("expected a mapping of keys");
+        for (const auto& kv : node_) {
+            const std::string k = kv.first.Scalar();
+            if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; })) {
+                std::string list;
+                for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+                Ctx(file_, kv.first, key_ + "." + k).fail(fmt::format("unknown key (allowed: {})", list));
+            }
+        }
+        for (const char* r : required) {
+            if (!node_[r]) fail(fmt::format("missing required key '{}'", r));
+        }
+    }
+    bool has(const char* k) const { return static_cast<bool>(node_[k]); }
+
+private:
+    fs::path file_;
+    YAML::Node node_;
+    std::string key_;
+};
+
+/// A path written in the scenario: relative, inside the scenario's folder.
+fs::path inside_folder(const Ctx& c) {
+    const std::string text = c.str();
+    const fs::path p(text);
+    if (p.is_absolute()) {
+        c.fail(fmt::format("'{}' is absolute: paths in a scenario are relative to its folder "
+                           "(give other files on the command line)", text));
+    }
+    const fs::path folder = fs::absolute(c.file()).parent_path().lexically_normal();
+    const fs::path full = (folder / p).lexically_normal();
+    const auto rel = full.lexically_relative(folder);
+    if (rel.empty() || *rel.begin() == "..") {
+        c.fail(fmt::format("'{}' leaves the scenario's folder {}", text, folder.string()));
+    }
+    return full;
+}
+
+fs::path existing_file(const Ctx& c) {
+    fs::path p = inside_folder(c);
+    if (!fs::is_regular_file(p)) c.fail(fmt::format("file '{}' does not exist", p.string()));
+    return p;
+}
+
+int uno_pin(const Ctx& c) {
+    const int pin = c.integer_in(0, 19);
+    return pin;
+}
+
+int pwm_pin(const Ctx& c) {
+    const int pin = c.integer_in(0, 19);
+    if (pin != 10 && pin != 11) c.fail(fmt::format("pin {}: the robot's PWM outputs are pins 10 and 11", pin));
+    return pin;
+}
+
+CompareOp compare_op(const Ctx& c) {
+    const std::string s = c.str();
+    if (s == "==") return CompareOp::kEq;
+    if (s == "!=") return CompareOp::kNe;
+    if (s == "<") return CompareOp::kLt;
+    if (s == "<=") return CompareOp::kLe;
+    if (s == ">") return CompareOp::kGt;
+    if (s == ">=") return CompareOp::kGe;
+    c.fail(fmt::format("'{}' is not one of ==, !=, <, <=, >, >=", s));
+}
+
+void check_regex(const Ctx& c, const std::string& pattern) {
+    try {
+        std::regex re(pattern, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+        c.fail(fmt::format("'{}' is not a valid regular expression: {}", pattern, e.what()));
+    }
+}
+
+std::optional<Cycles> optional_for(const Ctx& c) {
+    if (!c.has("for")) return std::nullopt;
+    return c.child("for").duration();
+}
+
+StepAction parse_step(const std::string& kind, const Ctx& c) {
+    if (kind == "delay") return Delay{c.duration()};
+    if (kind == "write-serial") return WriteSerial{c.str()};
+    if (kind == "wait-serial") {
+        if (c.node().IsScalar()) return WaitSerial{c.str(), 0};
+        c.keys({"text", "timeout"}, {"text"});
+        return WaitSerial{c.child("text").str(), c.has("timeout") ? c.child("timeout").duration() : 0};
+    }
+    if (kind == "expect-serial" || kind == "fail-serial") {
+        const std::string pattern = c.str();
+        check_regex(c, pattern);
+        if (kind == "fail-serial") return FailSerial{pattern};
+        return ExpectSerial{pattern};
+    }
+    if (kind == "wait-pin") {
+        c.keys({"pin", "value", "timeout"}, {"pin", "value"});
+        return WaitPin{uno_pin(c.child("pin")), c.child("value").boolean(),
+                       c.has("timeout") ? c.child("timeout").duration() : 0};
+    }
+    if (kind == "expect-pin") {
+        c.keys({"pin", "value"}, {"pin", "value"});
+        return ExpectPin{uno_pin(c.child("pin")), c.child("value").boolean()};
+    }
+    if (kind == "expect-pwm") {
+        c.keys({"pin", "duty", "tol"}, {"pin", "duty"});
+        return ExpectPwm{pwm_pin(c.child("pin")), c.child("duty").number_in(0, 1, "[0, 1]"),
+                         c.has("tol") ? c.child("tol").number_in(0, 1, "[0, 1]") : 0.01};
+    }
+    if (kind == "expect-var") {
+        c.keys({"name", "type", "op", "value"}, {"name", "value"});
+        ExpectVar v;
+        v.name = c.child("name").str();
+        if (c.has("type")) {
+            try {
+                v.type = hil::parse_var_type(c.child("type").str());
+            } catch (const std::invalid_argument& e) {
+                c.child("type").fail(e.what());
+            }
+        }
+        if (c.has("op")) v.op = compare_op(c.child("op"));
+        v.value = c.child("value").number();
+        return v;
+    }
+    if (kind == "expect-pose") {
+        c.keys({"source", "x_m", "y_m", "tol_m", "theta_rad", "tol_rad"}, {"x_m", "y_m", "tol_m"});
+        ExpectPose p;
+        if (c.has("source")) {
+            const std::string s = c.child("source").str();
+            if (s == "truth") p.source = PoseSource::kTruth;
+            else if (s == "firmware") p.source = PoseSource::kFirmware;
+            else c.child("source").fail(fmt::format("'{}' is not truth or firmware", s));
+        }
+        p.x_m = c.child("x_m").number();
+        p.y_m = c.child("y_m").number();
+        p.tol_m = c.child("tol_m").number_in(0, 100, "[0, 100] m");
+        if (c.has("theta_rad")) {
+            p.theta_rad = c.child("theta_rad").number();
+            if (!c.has("tol_rad")) c.fail("theta_rad needs tol_rad");
+            p.tol_rad = c.child("tol_rad").number_in(0, 100, "[0, 100] rad");
+        }
+        return p;
+    }
+    if (kind == "expect-eeprom") {
+        c.keys({"bin", "log", "tol_m"});
+        ExpectEeprom e;
+        if (c.has("bin")) e.bin = existing_file(c.child("bin"));
+        if (c.has("log")) {
+            e.log = existing_file(c.child("log"));
+            if (!c.has("tol_m")) c.fail("log needs tol_m");
+            e.tol_m = c.child("tol_m").number_in(0, 100, "[0, 100] m");
+        }
+        if (!e.bin && !e.log) c.fail("give bin (raw 1024 bytes) or log (CSV) with tol_m");
+        return e;
+    }
+    if (kind == "expect-compare") {
+        c.keys({"case", "max_rms_m", "max_endpoint_m"}, {"max_rms_m"});
+        ExpectCompare e;
+        if (c.has("case")) e.test_case = c.child("case").integer_in(1, 2);
+        e.max_rms_m = c.child("max_rms_m").number_in(0, 100, "[0, 100] m");
+        if (c.has("max_endpoint_m")) e.max_endpoint_m = c.child("max_endpoint_m").number_in(0, 100, "[0, 100] m");
+        return e;
+    }
+    if (kind == "expect-loop") {
+        c.keys({"max_us", "p99_us", "mean_us", "period_max_us", "period_p99_us", "period_mean_us",
+                "include_eeprom_writes"});
+        ExpectLoop l;
+        const auto range = [&](const char* k, Range& out) {
+            if (!c.has(k)) return;
+            const Ctx r = c.child(k);
+            if (r.node().IsSequence()) {
+                if (r.node().size() != 2) r.fail("expected a bound or [min, max]");
+                out.min = Ctx(r.file(), r.node()[0], r.key() + "[0]").number_in(0, 1e9, "[0, 1e9] us");
+                out.max = Ctx(r.file(), r.node()[1], r.key() + "[1]").number_in(0, 1e9, "[0, 1e9] us");
+                if (*out.min > *out.max) r.fail("min is above max");
+            } else {
+                out.max = r.number_in(0, 1e9, "[0, 1e9] us");
+            }
+        };
+        range("max_us", l.max_us);
+        range("p99_us", l.p99_us);
+        range("mean_us", l.mean_us);
+        range("period_max_us", l.period_max_us);
+        range("period_p99_us", l.period_p99_us);
+        range("period_mean_us", l.period_mean_us);
+        if (c.has("include_eeprom_writes")) l.include_eeprom_writes = c.child("include_eeprom_writes").boolean();
+        if (!l.max_us.set() && !l.p99_us.set() && !l.mean_us.set() && !l.period_max_us.set() &&
+            !l.period_p99_us.set() && !l.period_mean_us.set()) {
+            c.fail("give at least one bound (max_us, p99_us, mean_us, period_max_us, period_p99_us, period_mean_us)");
+        }
+        return l;
+    }
+    if (kind == "expect-isr") {
+        c.keys({"vector", "max_latency_cycles", "max_duration_cycles", "min_count"}, {"vector"});
+        ExpectIsr e;
+        e.vector = c.child("vector").str();
+        if (c.has("max_latency_cycles")) e.max_latency_cycles = c.child("max_latency_cycles").count();
+        if (c.has("max_duration_cycles")) e.max_duration_cycles = c.child("max_duration_cycles").count();
+        if (c.has("min_count")) e.min_count = c.child("min_count").count();
+        return e;
+    }
+    if (kind == "expect-no-torn-reads") {
+        if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) c.fail("takes no value");
+        return ExpectNoTornReads{};
+    }
+    if (kind == "expect-encoders") {
+        c.keys({"max_lost"}, {"max_lost"});
+        return ExpectEncoders{c.child("max_lost").count()};
+    }
+    if (kind == "inject") {
+        c.keys({"encoder", "drop", "for"}, {"encoder", "drop"});
+        return InjectDrop{c.child("encoder").integer_in(1, 2), c.child("drop").number_in(0, 0.5, "[0, 0.5]"),
+                          optional_for(c)};
+    }
+    if (kind == "stall") {
+        c.keys({"motor", "for"}, {"motor", "for"});
+        return Stall{c.child("motor").integer_in(1, 2), c.child("for").duration()};
+    }
+    if (kind == "battery") {
+        c.keys({"volts", "for"}, {"volts"});
+        return Battery{c.child("volts").number_in(0.1, 50, "[0.1, 50] V"), optional_for(c)};
+    }
+    if (kind == "slip") {
+        c.keys({"wheel", "traction", "for"}, {"wheel", "traction"});
+        return Slip{c.child("wheel").integer_in(1, 2), c.child("traction").number_in(0, 1, "[0, 1]"),
+                    optional_for(c)};
+    }
+    if (kind == "push") {
+        c.keys({"dx_m", "dy_m", "dtheta_rad"});
+        Push p;
+        if (c.has("dx_m")) p.dx_m = c.child("dx_m").number_in(-10, 10, "[-10, 10] m");
+        if (c.has("dy_m")) p.dy_m = c.child("dy_m").number_in(-10, 10, "[-10, 10] m");
+        if (c.has("dtheta_rad")) p.dtheta_rad = c.child("dtheta_rad").number_in(-10, 10, "[-10, 10] rad");
+        return p;
+    }
+    if (kind == "reset") {
+        if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) c.fail("takes no value");
+        return Reset{};
+    }
+    c.fail("unknown step (see docs/scenarios.md)");
+}
+
+std::string step_text(const YAML::Node& step) {
+    YAML::Emitter e;
+    e.SetMapFormat(YAML::Flow);
+    e.SetSeqFormat(YAML::Flow);
+    e << step;
+    return e.c_str();
+}
+
+/// Merges `over` into `base`, key by key (scalars replace).
+void merge(YAML::Node base, const YAML::Node& over) {
+    for (const auto& kv : over) {
+        const std::string k = kv.first.Scalar();
+        if (kv.second.IsMap() && base[k] && base[k].IsMap()) {
+            merge(base[k], kv.second);
+        } else {
+            base[k] = YAML::Clone(kv.second);
+        }
+    }
+}
+
+}  // namespace
+
+Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const LoadOptions& options) {
+    YAML::Node root;
+    try {
+        root = YAML::Load(std::string(yaml_text));
+    } catch (const YAML::Exception& e) {
+        throw ScenarioError(fmt::format("{}:{}: malformed YAML: {}", file.string(), e.mark.line + 1, e.msg));
+    }
+    const Ctx top(file, root, "(top)");
+    if (!root.IsMap()) throw ScenarioError(fmt::format("{}:1: a scenario is a mapping with a 'steps' list", file.string()));
+    top.keys({"name", "description", "version", "author", "firmware", "plant", "pwm", "eeprom-timing", "seed",
+              "timeout", "serial", "eeprom", "steps"},
+             {"steps", "timeout"});
+    Scenario s;
+    s.file = file;
+    s.name = root["name"] ? Ctx(file, root["name"], "name").str() : file.stem().string();
+    if (root["description"]) s.description = Ctx(file, root["description"], "description").str();
+    // Firmware: the command line's, else the file's, else the reference.
+    if (options.firmware_override) {
+        s.firmware = *options.firmware_override;
+    } else if (root["firmware"] && Ctx(file, root["firmware"], "firmware").str() != "reference") {
+        s.firmware = existing_file(Ctx(file, root["firmware"], "firmware"));
+    } else {
+        s.firmware = options.reference_firmware;
+    }
+    if (root["seed"]) s.seed = Ctx(file, root["seed"], "seed").count();
+    s.timeout = Ctx(file, root["timeout"], "timeout").duration();
+    if (s.timeout == 0) Ctx(file, root["timeout"], "timeout").fail("must be longer than 0");
+    if (root["pwm"]) {
+        const Ctx c(file, root["pwm"], "pwm");
+        const std::string v = c.str();
+        if (v == "switched") s.pwm = plant::DriveMode::switched;
+        else if (v == "averaged") s.pwm = plant::DriveMode::averaged;
+        else c.fail(fmt::format("'{}' is not switched or averaged", v));
+    }
+    if (root["eeprom-timing"]) {
+        const Ctx c(file, root["eeprom-timing"], "eeprom-timing");
+        const std::string v = c.str();
+        if (v == "datasheet") s.eeprom_timing = hil::EepromTimingMode::kDatasheet;
+        else if (v == "instant") s.eeprom_timing = hil::EepromTimingMode::kInstant;
+        else c.fail(fmt::format("'{}' is not datasheet or instant", v));
+    }
+    if (root["serial"]) {
+        const Ctx c(file, root["serial"], "serial");
+        c.keys({"baud"});
+        if (c.has("baud")) s.baud = static_cast<uint32_t>(c.child("baud").integer_in(300, 2000000));
+    }
+    if (root["eeprom"]) s.eeprom_preload = existing_file(Ctx(file, root["eeprom"], "eeprom"));
+    // Plant: embedded defaults, or a file, then overrides; the seed feeds the encoders.
+    YAML::Node plant_yaml = YAML::Load(plant::emit_robot_params(plant::default_robot_params()));
+    std::string plant_source = file.string() + " (plant)";
+    if (root["plant"]) {
+        const Ctx c(file, root["plant"], "plant");
+        c.keys({"file", "overrides"});
+        if (c.has("file")) {
+            s.plant_file = existing_file(c.child("file"));
+            plant::load_robot_params(*s.plant_file);  // its own messages name its file and line
+            plant_yaml = YAML::LoadFile(s.plant_file->string());
+            plant_yaml.remove(plant::kBoardSection);
+        }
+        if (c.has("overrides")) {
+            const Ctx o = c.child("overrides");
+            if (!o.node().IsMap()) o.fail("expected a mapping like {motor1: {resistance_ohm: 6.0}}");
+            merge(plant_yaml, o.node());
+        }
+    }
+    for (const char* enc : {"encoder1", "encoder2"}) {
+        if (!plant_yaml[enc]) plant_yaml[enc] = YAML::Node(YAML::NodeType::Map);
+        plant_yaml[enc]["seed"] = s.seed + (std::string(enc) == "encoder1" ? 0 : 1);
+    }
+    try {
+        YAML::Emitter e;
+        e << plant_yaml;
+        s.plant = plant::parse_robot_params(e.c_str(), plant_source);
+    } catch (const std::exception& e) {
+        Ctx(file, root["plant"] ? root["plant"] : root, "plant").fail(e.what());
+    }
+    // Steps.
+    const Ctx steps(file, root["steps"], "steps");
+    if (!root["steps"].IsSequence() || root["steps"].size() == 0) steps.fail("expected a non-empty list of steps");
+    for (const auto& item : root["steps"]) {
+        const Ctx sc(file, item, "steps[]");
+        if (!item.IsMap() || item.size() != 1) sc.fail("each step is a mapping with one key, e.g. - delay: 500ms");
+        const std::string kind = item.begin()->first.Scalar();
+        Step st;
+        st.line = item.Mark().line + 1;
+        st.kind = kind;
+        st.text = step_text(item);
+        st.action = parse_step(kind, Ctx(file, item.begin()->second, kind));
+        if (std::holds_alternative<WaitSerial>(st.action) && std::get<WaitSerial>(st.action).timeout == 0) {
+            std::get<WaitSerial>(st.action).timeout = s.timeout;
+        }
+        if (std::holds_alternative<WaitPin>(st.action) && std::get<WaitPin>(st.action).timeout == 0) {
+            std::get<WaitPin>(st.action).timeout = s.timeout;
+        }
+        s.steps.push_back(std::move(st));
+    }
+    return s;
+}
+
+Scenario load_scenario(const fs::path& file, const LoadOptions& options) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw ScenarioError(fmt::format("{}: cannot read the scenario file", file.string()));
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_scenario(text.str(), file, options);
+}
+
+}  // namespace ddmr::tools::scenario

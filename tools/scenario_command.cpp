@@ -1,0 +1,203 @@
+#include "scenario_command.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <thread>
+
+#include "common/atomic_file.hpp"
+#include "exit_codes.hpp"
+#include "scenario/junit.hpp"
+#include "scenario/scenario_runner.hpp"
+#include "scenario/scenario_yaml.hpp"
+
+extern char** environ;
+
+namespace ddmr::tools {
+namespace {
+namespace fs = std::filesystem;
+namespace sc = scenario;
+using nlohmann::json;
+
+struct ScenarioCli {
+    std::vector<std::string> files;
+    std::string out_dir = "scenario-results";
+    std::string junit;
+    std::string firmware;
+    unsigned jobs = 0;
+    bool worker = false;
+    bool progress = false;
+};
+
+sc::LoadOptions load_options(const ScenarioCli& cli) {
+    sc::LoadOptions o;
+    o.reference_firmware = DDMR_DEFAULT_FIRMWARE;
+    if (!cli.firmware.empty()) o.firmware_override = fs::absolute(cli.firmware);
+    return o;
+}
+
+/// One scenario in this process (the worker a suite run spawns).
+int run_worker(const ScenarioCli& cli) {
+    if (cli.files.size() != 1) throw std::invalid_argument("--worker takes exactly one scenario file");
+    const sc::Scenario s = sc::load_scenario(cli.files[0], load_options(cli));
+    const sc::ScenarioResult r = sc::run_scenario(s, cli.out_dir, cli.progress);
+    return sc::exit_code(r.verdict);
+}
+
+/// The result a worker left in its folder (or why there is none).
+sc::ScenarioResult read_result(const sc::Scenario& s, const fs::path& dir, int status, double wall_s) {
+    sc::ScenarioResult r;
+    r.name = s.name;
+    r.file = s.file;
+    r.wall_seconds = wall_s;
+    std::ifstream in(dir / "result.json");
+    if (!in) {
+        r.verdict = sc::Verdict::kFirmware;
+        std::string stderr_text;
+        std::ifstream err(dir / "stderr.txt");
+        std::getline(err, stderr_text);
+        r.message = WIFSIGNALED(status)
+                        ? fmt::format("the worker died with signal {} ({})", WTERMSIG(status), stderr_text)
+                        : fmt::format("the worker exited with {} and no result: {}", WEXITSTATUS(status), stderr_text);
+        return r;
+    }
+    const json j = json::parse(in);
+    const std::string v = j.at("verdict").get<std::string>();
+    r.verdict = v == "pass" ? sc::Verdict::kPass : v == "fail" ? sc::Verdict::kFail : sc::Verdict::kFirmware;
+    r.message = j.at("message").get<std::string>();
+    r.cycles = j.at("cycles").get<uint64_t>();
+    r.sim_seconds = j.at("sim_seconds").get<double>();
+    for (const auto& st : j.at("steps")) {
+        r.steps.push_back({st.at("line").get<int>(), st.at("kind").get<std::string>(), st.at("step").get<std::string>(),
+                           st.at("passed").get<bool>(), st.at("cycle").get<uint64_t>(),
+                           st.at("message").get<std::string>()});
+    }
+    return r;
+}
+
+std::string self_exe() {
+    std::error_code ec;
+    const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) throw std::runtime_error("cannot find this program's path (/proc/self/exe): " + ec.message());
+    return p.string();
+}
+
+int run_suite(const ScenarioCli& cli) {
+    if (cli.files.empty()) throw std::invalid_argument("give at least one scenario file");
+    const unsigned jobs = cli.jobs > 0 ? cli.jobs : std::max(1U, std::thread::hardware_concurrency());
+    // Everything is loaded and checked before anything runs or is written.
+    std::vector<sc::Scenario> scenarios;
+    std::set<std::string> names;
+    for (const auto& f : cli.files) {
+        scenarios.push_back(sc::load_scenario(f, load_options(cli)));
+        if (!names.insert(scenarios.back().name).second) {
+            throw std::invalid_argument(fmt::format("{}: scenario name '{}' is used twice (its output folder would be shared)",
+                                                    f, scenarios.back().name));
+        }
+        hil::ElfImage::read(scenarios.back().firmware).require_atmega328p();
+    }
+    const fs::path out = cli.out_dir;
+    prepare_output_dir(out);
+    const std::string exe = self_exe();
+
+    struct Running {
+        std::size_t index;
+        std::chrono::steady_clock::time_point start;
+    };
+    std::map<pid_t, Running> running;
+    std::vector<std::optional<sc::ScenarioResult>> results(scenarios.size());
+    std::size_t next = 0;
+    const auto launch = [&](std::size_t i) {
+        const sc::Scenario& s = scenarios[i];
+        const fs::path dir = out / s.name;
+        fs::create_directories(dir);
+        fs::remove(dir / "result.json");
+        std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
+        if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        const std::string out_path = (dir / "stdout.txt").string(), err_path = (dir / "stderr.txt").string();
+        posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        pid_t pid = 0;
+        const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
+        posix_spawn_file_actions_destroy(&actions);
+        if (rc != 0) throw std::runtime_error(fmt::format("cannot start a worker for {}: {}", s.file.string(), std::strerror(rc)));
+        running[pid] = {i, std::chrono::steady_clock::now()};
+    };
+    std::fprintf(stderr, "ddmr-hil scenario: %zu scenario(s), %u worker(s), results in %s\n", scenarios.size(), jobs,
+                 out.string().c_str());
+    while (next < scenarios.size() || !running.empty()) {
+        while (next < scenarios.size() && running.size() < jobs) launch(next++);
+        int status = 0;
+        const pid_t pid = waitpid(-1, &status, 0);
+        if (pid < 0) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+        const auto it = running.find(pid);
+        if (it == running.end()) continue;
+        const std::size_t i = it->second.index;
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - it->second.start).count();
+        running.erase(it);
+        results[i] = read_result(scenarios[i], out / scenarios[i].name, status, wall);
+        const auto& r = *results[i];
+        std::fprintf(stderr, "  done %-28s %s (%.1f s wall)\n", r.name.c_str(), sc::to_string(r.verdict), wall);
+    }
+
+    // Verdicts in the order given, and the combined result.
+    std::vector<sc::ScenarioResult> all;
+    int exit = kExitOk;
+    json combined = json::array();
+    for (auto& r : results) {
+        all.push_back(*r);
+        const char* tag = r->verdict == sc::Verdict::kPass ? "PASS" : r->verdict == sc::Verdict::kFail ? "FAIL" : "ERROR";
+        std::printf("%-5s %s (%s: %.3f s simulated, %.1f s wall)\n", tag, r->name.c_str(), r->file.string().c_str(),
+                    r->sim_seconds, r->wall_seconds);
+        if (r->verdict != sc::Verdict::kPass) std::printf("      %s\n", r->message.c_str());
+        if (r->verdict == sc::Verdict::kFirmware) exit = kExitFirmware;
+        else if (r->verdict == sc::Verdict::kFail && exit == kExitOk) exit = kExitCheckFailed;
+        combined.push_back({{"name", r->name}, {"file", r->file.string()}, {"verdict", sc::to_string(r->verdict)},
+                            {"message", r->message}, {"sim_seconds", r->sim_seconds}});
+    }
+    const auto passed = std::count_if(all.begin(), all.end(), [](const auto& r) { return r.verdict == sc::Verdict::kPass; });
+    std::printf("%zd of %zu scenario(s) passed\n", passed, all.size());
+    write_file_atomic(out / "results.json", json{{"scenarios", combined}, {"passed", passed}, {"total", all.size()}}.dump(2) + "\n");
+    if (!cli.junit.empty()) write_file_atomic(cli.junit, sc::junit_xml("ddmr-hil scenarios", all));
+    return exit;
+}
+
+}  // namespace
+
+Subcommand register_scenario_command(CLI::App& app) {
+    auto cli = std::make_shared<ScenarioCli>();
+    CLI::App* sub = app.add_subcommand(
+        "scenario",
+        "Run scenario files (YAML, docs/scenarios.md): firmware regression tests in AVR time with the robot "
+        "attached. Exit 0 all passed, 1 a check failed, 2 a scenario or input error, 3 a firmware crash or timeout.");
+    sub->add_option("files", cli->files, "Scenario files")->required()->check(CLI::ExistingFile);
+    sub->add_option("--out", cli->out_dir, "Results folder: one sub-folder per scenario, results.json")
+        ->capture_default_str();
+    sub->add_option("--junit", cli->junit, "Also write JUnit XML here");
+    sub->add_option("--firmware", cli->firmware, "Run every scenario on this ELF instead of the one it names");
+    sub->add_option("-j,--jobs", cli->jobs, "Scenarios run at once, each in its own process [default: all cores]")
+        ->check(CLI::Range(1U, 256U));
+    sub->add_flag("--progress", cli->progress, "Print each step as it finishes (worker mode)");
+    sub->add_flag("--worker", cli->worker, "Run one scenario in this process (used by the suite runner)")
+        ->group("");  // hidden
+    return {sub, [cli] { return cli->worker ? run_worker(*cli) : run_suite(*cli); }};
+}
+
+}  // namespace ddmr::tools
