@@ -13,9 +13,11 @@
 #include "common/atomic_file.hpp"
 #include "common/sha256.hpp"
 #include "common/truth_csv.hpp"
+#include "exit_codes.hpp"
 #include "hil/board.hpp"
 #include "hil/eeprom_log.hpp"
 #include "hil/elf_image.hpp"
+#include "hil/gdb_server.hpp"
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_tracer.hpp"
 #include "hil/torn_read_detector.hpp"
@@ -222,6 +224,7 @@ const char* to_string(RunExit exit) {
         case RunExit::kSleepForever: return "sleep_with_interrupts_off";
         case RunExit::kReportMalformed: return "report_malformed";
         case RunExit::kPlantFailed: return "plant_failed";
+        case RunExit::kKilledByDebugger: return "killed_by_debugger";
     }
     return "unknown";
 }
@@ -257,7 +260,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const hil::RigConfig config = rig_config(options);
     const std::string sha256 = sha256_file_hex(options.firmware);
 
-    const auto wall_start = std::chrono::steady_clock::now();
+    auto wall_start = std::chrono::steady_clock::now();
     hil::RobotRig rig(elf, config);
     hil::AvrCore& core = rig.core();
     hil::UartLink& uart = rig.uart();
@@ -282,6 +285,19 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         trace_tracer.emplace(rig.variables(), kLoopMarker, trace_vars);  // validates every name and size
         for (const auto& v : trace_vars) trace_handles.push_back(rig.variables().lookup(v.name, v.type));
     }
+    // The gdb port is bound here, so a port in use is refused before anything
+    // is written; the run then waits for avr-gdb before its first instruction.
+    std::optional<hil::GdbServer> gdb;
+    if (options.gdb_port) {
+        gdb.emplace(core, hil::GdbServerConfig{*options.gdb_port, options.gdb_attach_timeout_s});
+        std::fprintf(stderr,
+                     "ddmr-hil: waiting for avr-gdb on 127.0.0.1:%u (loopback only): "
+                     "avr-gdb -ex 'target remote 127.0.0.1:%u' %s\n",
+                     unsigned{*options.gdb_port}, unsigned{*options.gdb_port}, options.firmware.c_str());
+        gdb->wait_for_attach();
+        wall_start = std::chrono::steady_clock::now();  // the wait for a person is not run time
+    }
+    const auto killed = [&gdb] { return gdb && gdb->killed(); };
     prepare_output_dir(options.out_dir);
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
@@ -394,8 +410,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                      phase, core.seconds(), options.max_sim_seconds, uart.received().size());
     };
 
-    hil::RunStop stop = core.run_until_return_from(ready, limit);
-    if (stop == hil::RunStop::kCondition && rig.coupler().status() == plant::StepStatus::ok) {
+    hil::RunStop stop = killed() ? hil::RunStop::kCondition : core.run_until_return_from(ready, limit);
+    if (gdb) gdb->release_if_detached();
+    if (stop == hil::RunStop::kCondition && !killed() && rig.coupler().status() == plant::StepStatus::ok) {
         result.ready_cycle = core.cycle();
         progress("ready");
         if (profiler) profiler->arm();
@@ -405,6 +422,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             const Cycles next = std::min<Cycles>(
                 limit, core.cycle() + hil::s_to_cycles(kProgressPeriodS, core.clock_hz()));
             stop = core.run_until(next);
+            if (gdb) gdb->release_if_detached();  // back to full speed once gdb has left
             if (stop == hil::RunStop::kReachedCycle) progress("running");
         }
     }
@@ -416,7 +434,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     result.eeprom = rig.eeprom().read_all();
     result.report = parser.report();
     const double sim_s = hil::cycles_to_s(result.cycles_total, core.clock_hz());
-    if (rig.coupler().status() != plant::StepStatus::ok) {
+    if (killed()) {
+        result.exit = RunExit::kKilledByDebugger;
+        result.message = fmt::format("killed by the debugger at cycle {} (t = {:.6f} s)", core.cycle(), sim_s);
+    } else if (rig.coupler().status() != plant::StepStatus::ok) {
         result.exit = RunExit::kPlantFailed;
         const plant::Pose& p = rig.robot().pose();
         result.message = fmt::format("plant {} at t={:.6f} s (last finite pose x={:.6g} m, y={:.6g} m)",
@@ -456,6 +477,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                 break;
         }
     }
+
+    // A gdb still attached and waiting learns that the program exited, with
+    // the exit code this process will return.
+    if (gdb) gdb->end_of_run(result.exit == RunExit::kReportComplete ? kExitOk : kExitFirmware);
 
     for (unsigned ch = 0; ch < 2; ++ch) result.encoder[ch] = rig.encoders().stats(ch);
     result.end_pose_truth = rig.robot().pose();

@@ -12,6 +12,11 @@
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (sample, t_s, x_m, y_m)
 //   summary.json    firmware identity, cycle counts, timing, exit reason, the
 //                   parsed firmware report, encoder counts and end poses
+//
+// With gdb_port, avr-gdb is served on 127.0.0.1 (hil/gdb_server.hpp): the port
+// is bound while the inputs are validated, the run waits for gdb before the
+// first instruction, and gdb's kill ends the run (kKilledByDebugger) with the
+// artifacts written.
 
 #include <cstdint>
 #include <array>
@@ -55,6 +60,10 @@ struct FirmwareRunOptions {
     hil::Cycles trace_every_cycles = 0;   ///< 0: one trace row per loop iteration
     bool progress = false;                ///< one progress line per simulated second on stderr
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
+    /// Serve avr-gdb on 127.0.0.1:PORT and wait for it before the first
+    /// instruction (hil/gdb_server.hpp); 1..65535.
+    std::optional<uint16_t> gdb_port;
+    double gdb_attach_timeout_s = 300.0;  ///< [wall s] how long to wait for avr-gdb
 };
 
 enum class RunExit {
@@ -64,6 +73,7 @@ enum class RunExit {
     kSleepForever,    ///< SLEEP with interrupts off
     kReportMalformed, ///< the firmware printed something the report parser rejects
     kPlantFailed,     ///< the plant diverged (non-finite state) or overflowed
+    kKilledByDebugger,  ///< avr-gdb sent kill (--gdb)
 };
 
 const char* to_string(RunExit exit);
