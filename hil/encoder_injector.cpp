@@ -82,6 +82,7 @@ void EncoderInjector::raise(const Edge& e) {
     }
     ++s.edges_injected;
     avr_raise_irq(pin_irq_[e.channel], e.level ? 1 : 0);
+    if (edge_listener_) edge_listener_(e.channel, core_.cycle(), e.level);
 }
 
 }  // namespace ddmr::hil

@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -42,6 +43,13 @@ public:
     /// (not before the last queued edge; an edge at or before now is raised
     /// at once).
     void schedule(unsigned channel, Cycles cycle, bool level);
+
+    /// Called as each edge is put on its pin: channel, the AVR cycle of the
+    /// raise (at or just after the plant's edge time: the first instruction
+    /// boundary), the new level. (For VcdRecorder; keep it short, do not throw.)
+    void set_edge_listener(std::function<void(unsigned, Cycles, bool)> listener) {
+        edge_listener_ = std::move(listener);
+    }
 
     const EncoderChannelStats& stats(unsigned channel) const { return stats_[channel]; }
     /// Cycle of every ISR entry of the channel's interrupt, in order (for
@@ -72,6 +80,7 @@ private:
     std::array<std::vector<Cycles>, 2> isr_entries_{};
     std::array<IsrWatch, 2> isr_watch_{};
     std::deque<Edge> queue_;
+    std::function<void(unsigned, Cycles, bool)> edge_listener_;
     bool armed_ = false;
 };
 

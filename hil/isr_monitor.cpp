@@ -29,23 +29,23 @@ std::optional<uint32_t> vector_target(const AvrCore& core, int vector) {
     return std::nullopt;
 }
 
-std::string handler_name(const AvrCore& core, const ElfImage& elf, int vector) {
-    const auto target = vector_target(core, vector);
-    if (!target) return "?";
-    const auto bad = elf.find("__bad_interrupt");
-    if (bad && bad->address == *target) return "__bad_interrupt";
-    const auto own = elf.find("__vector_" + std::to_string(vector));
-    if (own && own->address == *target) return own->name;
-    if (const auto f = elf.function_at(*target)) return f->name;
-    return fmt::format("0x{:04x}", *target);
-}
-
 std::string min_mean_max(const CycleStats& s) {
     if (s.count == 0) return "–";
     return fmt::format("{} / {:.1f} / {}", s.min, s.mean(), s.max);
 }
 
 }  // namespace
+
+std::string vector_handler_name(const AvrCore& core, const ElfImage& elf, int vector) {
+    const auto target = vector_target(core, vector);
+    if (!target) return "?";
+    const auto bad = elf.find(kNoHandler);
+    if (bad && bad->address == *target) return kNoHandler;
+    const auto own = elf.find("__vector_" + std::to_string(vector));
+    if (own && own->address == *target) return own->name;
+    if (const auto f = elf.function_at(*target)) return f->name;
+    return fmt::format("0x{:04x}", *target);
+}
 
 std::size_t CycleHistogram::bin_of(Cycles cycles) {
     std::size_t bin = 0;
@@ -84,7 +84,7 @@ IsrMonitor::IsrMonitor(AvrCore& core, const ElfImage& elf, const IsrMonitorConfi
                                                  atmega328p::vector::kNames[static_cast<std::size_t>(v)]));
         }
         s.hook = Hook{this, v};
-        handlers_[static_cast<std::size_t>(v)] = handler_name(core_, elf, v);
+        handlers_[static_cast<std::size_t>(v)] = vector_handler_name(core_, elf, v);
         avr_irq_register_notify(s.irqs + AVR_INT_IRQ_PENDING, &IsrMonitor::on_pending, &s.hook);
         avr_irq_register_notify(s.irqs + AVR_INT_IRQ_RUNNING, &IsrMonitor::on_running, &s.hook);
     }

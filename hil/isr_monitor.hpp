@@ -140,6 +140,13 @@ struct IsrSummary {
 /// table with the non-empty histogram bins.
 std::string to_markdown(const IsrSummary& summary);
 
+/// The ELF function vector `vector`'s JMP (or RJMP) reaches: its handler, e.g.
+/// "__vector_1"; kNoHandler for a vector the firmware does not use; "?" when
+/// the vector slot is not a jump; the address when no symbol covers it.
+std::string vector_handler_name(const AvrCore& core, const ElfImage& elf, int vector);
+/// avr-libc's target of the vectors without a handler.
+inline constexpr const char* kNoHandler = "__bad_interrupt";
+
 class IsrMonitor {
 public:
     static constexpr int kMaxNesting = 8;

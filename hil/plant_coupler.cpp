@@ -49,6 +49,7 @@ void PlantCoupler::step(Cycles boundary) {
 }
 
 void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
+    if (enable_listener_ && config_.mode != plant::DriveMode::switched) report_enable_waveform(from, to);
     Cycles t = from;
     while (t < to) {
         Cycles next = to;
@@ -57,6 +58,7 @@ void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
                 const BridgeDrive& d = reader_.drive(m);
                 input.bridge[m].enable = d.enable_level_at(t);
                 next = std::min(next, d.next_enable_edge_after(t));
+                if (enable_listener_) enable_listener_(m, t, input.bridge[m].enable);
             }
         }
         robot_.set_input(input);
@@ -75,6 +77,16 @@ void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
             return;
         }
         t = next;
+    }
+}
+
+void PlantCoupler::report_enable_waveform(Cycles from, Cycles to) {
+    // The same waveform the switched model steps through, for the averaged model.
+    for (std::size_t m = 0; m < 2; ++m) {
+        const BridgeDrive& d = reader_.drive(m);
+        for (Cycles t = from; t < to; t = d.next_enable_edge_after(t)) {
+            enable_listener_(m, t, d.enable_level_at(t));
+        }
     }
 }
 

@@ -69,6 +69,15 @@ public:
     /// Called at every boundary, after the plant has been stepped (for parts
     /// that poll the firmware, such as LoopTracer).
     void set_boundary_hook(std::function<void(Cycles)> hook) { hook_ = std::move(hook); }
+    /// Called with the enable level of motor m (0, 1) from `cycle` on, as the
+    /// plant is driven: in switched mode at the start of every plant
+    /// sub-step (each PWM edge), in averaged mode at each boundary and at the
+    /// edges of the phase-correct waveform the duty stands for. Levels may
+    /// repeat; cycles are in the current step, not yet executed by the AVR.
+    /// (For VcdRecorder; inside the simulation: keep it short, do not throw.)
+    void set_enable_listener(std::function<void(std::size_t, Cycles, bool)> listener) {
+        enable_listener_ = std::move(listener);
+    }
 
     plant::StepStatus status() const { return status_; }
     /// Plant time at which the status stopped being ok [s].
@@ -85,6 +94,7 @@ private:
     static uint64_t on_step(struct avr_t* avr, uint64_t when, void* param);
     void step(Cycles boundary);
     void advance(Cycles from, Cycles to, plant::RobotInput& input);
+    void report_enable_waveform(Cycles from, Cycles to);
     void sample_truth(Cycles boundary, const plant::RobotInput& input);
 
     AvrCore& core_;
@@ -94,6 +104,7 @@ private:
     CouplerConfig config_;
     std::function<void(const TruthSample&)> sink_;
     std::function<void(Cycles)> hook_;
+    std::function<void(std::size_t, Cycles, bool)> enable_listener_;
     plant::EdgeBuffer edges_;
     plant::StepStatus status_ = plant::StepStatus::ok;
     double failed_at_s_ = 0.0;

@@ -25,22 +25,26 @@ avr_uart_t* find_uart(avr_t* avr, char name) {
 
 bool bit(uint8_t value, int n) { return ((static_cast<unsigned>(value) >> n) & 1U) != 0; }
 
+/// Bit time of the ATmega328P USART in asynchronous mode (datasheet 19.3.1).
+unsigned chip_cycles_per_bit(const AvrCore& core) {
+    using namespace atmega328p;
+    const unsigned ubrr =
+        static_cast<unsigned>(core.data(reg::kUbrr0L)) | ((core.data(reg::kUbrr0H) & 0x0FU) << 8);
+    return (ubrr + 1) * (bit(core.data(reg::kUcsr0A), uart_bit::kU2x0) ? 8U : 16U);
+}
+
 /// Frame time of the ATmega328P USART in asynchronous mode (datasheet 19.3.1,
 /// 19.4: frame = start + data + optional parity + stop bits).
 Cycles chip_cycles_per_byte(const AvrCore& core) {
     using namespace atmega328p;
-    const uint8_t ucsra = core.data(reg::kUcsr0A);
     const uint8_t ucsrb = core.data(reg::kUcsr0B);
     const uint8_t ucsrc = core.data(reg::kUcsr0C);
-    const unsigned ubrr =
-        static_cast<unsigned>(core.data(reg::kUbrr0L)) | ((core.data(reg::kUbrr0H) & 0x0FU) << 8);
     const unsigned ucsz = ((ucsrc >> uart_bit::kUcsz00) & 0x3U) | (bit(ucsrb, uart_bit::kUcsz02) ? 4U : 0U);
     static constexpr unsigned kDataBits[8] = {5, 6, 7, 8, 8, 8, 8, 9};  // 4..6 reserved
     const unsigned data_bits = kDataBits[ucsz];
     const unsigned parity_bits = ((ucsrc >> uart_bit::kUpm00) & 0x3U) != 0 ? 1U : 0U;
     const unsigned stop_bits = bit(ucsrc, uart_bit::kUsbs0) ? 2U : 1U;
-    const unsigned cycles_per_bit = (ubrr + 1) * (bit(ucsra, uart_bit::kU2x0) ? 8U : 16U);
-    return static_cast<Cycles>(cycles_per_bit) * (1U + data_bits + parity_bits + stop_bits);
+    return static_cast<Cycles>(chip_cycles_per_bit(core)) * (1U + data_bits + parity_bits + stop_bits);
 }
 
 }  // namespace
@@ -111,5 +115,7 @@ std::string UartLink::text() const {
 }
 
 Cycles UartLink::cycles_per_byte() const { return uart_->cycles_per_byte; }
+
+Cycles UartLink::cycles_per_bit() const { return chip_cycles_per_bit(core_); }
 
 }  // namespace ddmr::hil

@@ -63,6 +63,9 @@ public:
 
     /// The frame time simavr is currently using [cycles per byte].
     Cycles cycles_per_byte() const;
+    /// One bit time on the line as the registers set it (UBRR0, U2X0;
+    /// datasheet 19.3.1) [cycles per bit]: 1664 at the Uno's 9600 baud.
+    Cycles cycles_per_bit() const;
 
 private:
     static void on_output(avr_irq_t* irq, uint32_t value, void* param);

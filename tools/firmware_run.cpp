@@ -22,6 +22,7 @@
 #include "hil/loop_tracer.hpp"
 #include "hil/torn_read_detector.hpp"
 #include "hil/robot_rig.hpp"
+#include "hil/vcd_recorder.hpp"
 
 #include <sim_avr.h>
 #include <sim_cycle_timers.h>
@@ -240,6 +241,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             fmt::format("--seconds {}: must be a positive number of simulated seconds",
                         options.max_sim_seconds));
     }
+    if (options.vcd) {
+        try {
+            check_output_file(*options.vcd);
+        } catch (const std::exception& e) {
+            throw std::invalid_argument("--vcd " + options.vcd->string() + ": " + e.what());
+        }
+    }
     const hil::ElfImage elf = hil::ElfImage::read(options.firmware);
     elf.require_atmega328p();
     const hil::ElfSymbol ready = elf.require(options.ready_symbol);
@@ -299,6 +307,17 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     const auto killed = [&gdb] { return gdb && gdb->killed(); };
     prepare_output_dir(options.out_dir);
+    // --vcd: a recorder on the rig, streaming to the atomic file.
+    std::optional<AtomicFileWriter> vcd_file;
+    std::optional<hil::VcdWriter> vcd_writer;
+    std::optional<hil::VcdRecorder> vcd;
+    if (options.vcd) {
+        vcd_file.emplace(*options.vcd);
+        hil::VcdConfig vcd_config;
+        vcd_config.clock_hz = core.clock_hz();
+        vcd_writer.emplace([&file = *vcd_file](std::string_view text) { file.write(text); }, vcd_config);
+        vcd.emplace(rig, elf, *vcd_writer, profiler ? &*profiler : nullptr);
+    }
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
     AtomicFileWriter truth_csv(options.out_dir / "truth.csv");
@@ -337,6 +356,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         const double t = values[t_index];
         if (t > last_t) {
             ++loop_iterations;
+            if (vcd) vcd->mark_loop_iteration(cycle);
             if (have_last) {
                 period_sum += cycle - last_iteration_cycle;
                 ++period_count;
@@ -378,6 +398,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     rig.coupler().set_boundary_hook([&](Cycles cycle) {
         tracer.poll(cycle);
         if (trace_tracer && options.trace_every_cycles == 0) trace_tracer->poll(cycle);
+        if (vcd) vcd->on_boundary(cycle);
     });
 
     FirmwareRunResult result;
@@ -428,6 +449,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
 
     result.cycles_total = core.cycle();
+    if (vcd) vcd->finish();
     result.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     result.uart_text = uart.text();
@@ -570,6 +592,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         {"eeprom_log_samples", result.eeprom_log_samples},
         {"eeprom_writes", rig.eeprom_timing().writes().size()},
         {"loop_profile", loop_profile},
+        {"vcd", options.vcd ? json(options.vcd->string()) : json(nullptr)},
         {"isr", {{"isr_share", static_cast<double>(isr_summary.isr_cycles) /
                                    static_cast<double>(std::max<Cycles>(1, isr_summary.observed_cycles()))},
                  {"torn_reads", torn.is_null() ? json(nullptr) : json{{"Count1", torn["Count1"]}, {"Count2", torn["Count2"]}}},
@@ -590,6 +613,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     write_file_atomic(options.out_dir / "isr.json", isr.dump(2) + "\n");
     write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary));
     if (trace_csv) trace_csv->commit();
+    if (vcd_file) vcd_file->commit();
     truth_csv.commit();
     firmware_csv.commit();
     write_file_atomic(options.out_dir / "summary.json", summary.dump(2) + "\n");

@@ -12,6 +12,11 @@
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (sample, t_s, x_m, y_m)
 //   summary.json    firmware identity, cycle counts, timing, exit reason, the
 //                   parsed firmware report, encoder counts and end poses
+//   (--vcd FILE)    a value-change dump for GTKWave at FILE (anywhere, not
+//                   only in out_dir): Uno pins 0-3 and 10-13 with the
+//                   synthesised serial frames and PWM, one signal per ISR,
+//                   the loop-iteration count (hil/vcd_recorder.hpp); kept,
+//                   like every artifact, when the firmware fails
 //
 // With gdb_port, avr-gdb is served on 127.0.0.1 (hil/gdb_server.hpp): the port
 // is bound while the inputs are validated, the run waits for gdb before the
@@ -58,6 +63,9 @@ struct FirmwareRunOptions {
     /// uint32, float; default by size: 1 uint8, 2 int16, 4 float).
     std::vector<std::string> trace;
     hil::Cycles trace_every_cycles = 0;   ///< 0: one trace row per loop iteration
+    /// Value-change dump of the run (pins, PWM, ISRs, loop marker), written
+    /// atomically; its folder must exist and be writable.
+    std::optional<std::filesystem::path> vcd;
     bool progress = false;                ///< one progress line per simulated second on stderr
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
     /// Serve avr-gdb on 127.0.0.1:PORT and wait for it before the first

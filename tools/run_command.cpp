@@ -22,6 +22,7 @@ struct RunCli {
     std::string board_file;
     std::string pwm = "switched";
     std::string eeprom_timing = "datasheet";
+    std::string vcd;
     bool quiet = false;
     bool progress = false;
     int gdb_port = 0;  ///< 0: no --gdb
@@ -93,6 +94,10 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "~53 instead of ~96 Mcycles/s) until gdb detaches")
         ->option_text("PORT")
         ->check(CLI::Range(1, 65535));
+    sub->add_option("--vcd", cli->vcd,
+                    "Write a value-change dump (GTKWave) of the run to FILE: Uno pins 0-3 and 10-13 (serial frames, "
+                    "encoder edges, synthesised PWM, direction), one signal per ISR, the loop-iteration count; "
+                    "time in ns of AVR time");
     sub->add_option("--loop-mark", cli->options.loop_mark,
                     "With --profile: the function each loop iteration calls once (its call ends the compute part)")
         ->capture_default_str();
@@ -106,6 +111,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
         if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
         if (!cli->board_file.empty()) o.board_file = cli->board_file;
+        if (!cli->vcd.empty()) o.vcd = cli->vcd;
         o.pwm = cli->pwm == "averaged" ? plant::DriveMode::averaged : plant::DriveMode::switched;
         o.eeprom_timing = cli->eeprom_timing == "instant" ? hil::EepromTimingMode::kInstant
                                                           : hil::EepromTimingMode::kDatasheet;

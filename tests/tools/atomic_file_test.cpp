@@ -1,4 +1,5 @@
-// write_file_atomic / prepare_output_dir: all or nothing, and clear errors.
+// write_file_atomic / prepare_output_dir / check_output_file: all or nothing,
+// and clear errors.
 #include "common/atomic_file.hpp"
 
 #include <gtest/gtest.h>
@@ -50,6 +51,20 @@ TEST(AtomicFile, OutputDirIsCreatedWithParents) {
     TempDir dir;
     tools::prepare_output_dir(dir / "a" / "b");
     EXPECT_TRUE(std::filesystem::is_directory(dir / "a" / "b"));
+}
+
+TEST(AtomicFile, OutputFileCheckNeedsAnExistingFolderAndCreatesNothing) {
+    TempDir dir;
+    EXPECT_NO_THROW(tools::check_output_file(dir / "run.vcd"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "run.vcd"));
+    try {
+        tools::check_output_file(dir / "missing" / "run.vcd");
+        FAIL() << "a missing folder was accepted";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+    EXPECT_THROW(tools::check_output_file(dir.path()), std::runtime_error);  // a folder, not a file
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
+#include "support/vcd_reader.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -25,10 +26,24 @@ int line_count(const std::string& s) {
     return n;
 }
 
-TEST(RunCommand, Case1WritesUartEepromAndSummary) {
+/// `run --case 1 --vcd`, run once per test process and shared by the tests
+/// that check its artifacts.
+struct Case1Run {
     TempDir dir;
-    const auto out = dir / "run";
-    const auto r = run_command(cli() + " run --case 1 -q --out " + sh_quote(out.string()));
+    std::filesystem::path out = dir / "run";
+    std::filesystem::path vcd = dir / "run.vcd";
+    ProcessResult result = run_command(cli() + " run --case 1 -q --out " + sh_quote(out.string()) + " --vcd " +
+                                       sh_quote(vcd.string()));
+};
+
+const Case1Run& case1_run() {
+    static const Case1Run run;
+    return run;
+}
+
+TEST(RunCommand, Case1WritesUartEepromAndSummary) {
+    const auto& out = case1_run().out;
+    const auto& r = case1_run().result;
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string uart = read_text(out / "uart.txt");
     EXPECT_EQ(uart.rfind("0.6m\r\nEND\r\n", 0), 0u) << uart.substr(0, 40);
@@ -87,22 +102,122 @@ TEST(RunCommand, Case1WritesUartEepromAndSummary) {
     EXPECT_EQ(r.out.find("report_complete") != std::string::npos, true) << r.out;
 }
 
+/// The value of a 1-bit VCD signal at `time` (the last change at or before it).
+uint64_t value_at(const VcdVar& v, uint64_t time) {
+    const auto after = std::upper_bound(v.changes.begin(), v.changes.end(), time,
+                                        [](uint64_t t, const VcdChange& c) { return t < c.time; });
+    return after == v.changes.begin() ? v.changes.front().value : std::prev(after)->value;
+}
+
+/// Serial frames on a line (idle high): at each falling edge, 8 data bits LSB
+/// first sampled mid-bit, then a stop bit that must be high.
+std::string decode_serial(const VcdVar& line, uint64_t bit_ns) {
+    std::string bytes;
+    uint64_t busy_until = 0;
+    for (std::size_t i = 1; i < line.changes.size(); ++i) {
+        const VcdChange& c = line.changes[i];
+        if (c.value != 0 || line.changes[i - 1].value == 0 || c.time < busy_until) continue;
+        unsigned byte = 0;
+        for (unsigned b = 0; b < 8; ++b) {
+            byte |= static_cast<unsigned>(value_at(line, c.time + bit_ns * (1 + b) + bit_ns / 2)) << b;
+        }
+        EXPECT_EQ(value_at(line, c.time + bit_ns * 9 + bit_ns / 2), 1u) << "no stop bit at " << c.time;
+        bytes.push_back(static_cast<char>(byte));
+        busy_until = c.time + bit_ns * 10;
+    }
+    return bytes;
+}
+
+TEST(RunCommand, Case1VcdHoldsPinsIsrsAndLoopMarker) {
+    const Case1Run& run = case1_run();
+    ASSERT_EQ(run.result.exit_code, 0) << run.result.err;
+    const VcdFile vcd = parse_vcd(read_text(run.vcd));  // throws on a malformed file
+    EXPECT_EQ(vcd.timescale, "1ns");
+    EXPECT_TRUE(vcd.has_dumpvars);
+    for (const char* name :
+         {"uno.D0_RX", "uno.D1_TX", "uno.D2_encoder1", "uno.D3_encoder2", "uno.D10_enable1", "uno.D11_enable2",
+          "uno.D12_direction1", "uno.D13_direction2", "isr.isr_INT0", "isr.isr_INT1", "isr.isr_TIMER0_OVF",
+          "isr.isr_USART_UDRE", "firmware.loop_iteration"}) {
+        EXPECT_TRUE(vcd.has(std::string("ddmr_hil.") + name)) << name;
+    }
+    EXPECT_TRUE(std::is_sorted(vcd.timestamps.begin(), vcd.timestamps.end()));
+    const json s = json::parse(read_text(run.out / "summary.json"));
+    // The dump ends at the run's last cycle: floor(cycles x 125 / 2) ns at 16 MHz.
+    EXPECT_EQ(vcd.end_time, s["cycles_total"].get<uint64_t>() * 125 / 2);
+    const auto var = [&](const std::string& name) -> const VcdVar& { return vcd.var("ddmr_hil." + name); };
+
+    // Every injected encoder edge is one level change of the pin.
+    EXPECT_EQ(edge_count(var("uno.D2_encoder1")), s["encoder"]["channel1"]["edges_injected"].get<std::size_t>());
+    EXPECT_EQ(edge_count(var("uno.D3_encoder2")), s["encoder"]["channel2"]["edges_injected"].get<std::size_t>());
+    // One high pulse per ISR entry, as isr.json counts them.
+    const json isr = json::parse(read_text(run.out / "isr.json"));
+    for (const auto& v : isr["vectors"]) {
+        const std::string name = "isr.isr_" + v["name"].get<std::string>();
+        ASSERT_TRUE(vcd.has("ddmr_hil." + name)) << name;
+        EXPECT_EQ(edge_count(var(name), /*rising_only=*/true), v["count"].get<std::size_t>()) << name;
+    }
+    // The loop marker counts the iterations summary.json reports.
+    const VcdVar& loop = var("firmware.loop_iteration");
+    EXPECT_EQ(loop.changes.back().value, s["loop_iterations"].get<uint64_t>());
+    EXPECT_EQ(loop.changes.size(), s["loop_iterations"].get<std::size_t>() + 1);  // +1 each, from 0
+
+    // PWM on pin 10 while the loop runs: every pulse shorter than a period is
+    // centred on the counter's BOTTOM (pulse centres 2.04 ms = 32,640 cycles
+    // apart, give or take the 1 ns of rounding down) and lasts 2 x OCR x 64
+    // cycles, a multiple of 128 cycles = 8,000 ns.
+    const uint64_t loop_begin = loop.changes.at(1).time;
+    const uint64_t loop_end = loop.changes.back().time;
+    constexpr uint64_t kPeriodNs = 2'040'000, kStepNs = 8'000;
+    const VcdVar& d10 = var("uno.D10_enable1");
+    std::size_t pulses = 0, off_grid = 0;
+    uint64_t first_centre_2x = 0, first_off_grid = 0;
+    for (std::size_t i = 1; i + 1 < d10.changes.size(); ++i) {
+        const uint64_t rise = d10.changes[i].time, fall = d10.changes[i + 1].time;
+        if (d10.changes[i].value != 1 || rise < loop_begin || fall > loop_end || fall - rise >= kPeriodNs) continue;
+        const uint64_t width = fall - rise;
+        const uint64_t centre_2x = rise + fall;  // twice the centre, in ns
+        if (pulses++ == 0) first_centre_2x = centre_2x;
+        const uint64_t off = (centre_2x - first_centre_2x) % (2 * kPeriodNs);
+        if (std::min(width % kStepNs, kStepNs - width % kStepNs) > 1 || std::min(off, 2 * kPeriodNs - off) > 2) {
+            if (off_grid++ == 0) first_off_grid = rise;
+        }
+    }
+    EXPECT_GT(pulses, 4000u);  // ~490 per simulated second over 12 s
+    EXPECT_EQ(off_grid, 0u) << "first pulse off the PWM grid rises at " << first_off_grid << " ns";
+
+    // The TX line decodes (start, 8 data bits, stop at 1664 cycles = 104 us a
+    // bit) back to what the firmware sent; RX carries the case byte.
+    const std::string uart = read_text(run.out / "uart.txt");
+    const std::string tx = decode_serial(var("uno.D1_TX"), 104'000);
+    ASSERT_GE(tx.size(), 64u);
+    EXPECT_EQ(tx.substr(0, 64), uart.substr(0, 64));
+    EXPECT_EQ(tx.size(), uart.size());
+    const auto mismatch = std::mismatch(tx.begin(), tx.end(), uart.begin(), uart.end());
+    EXPECT_TRUE(mismatch.first == tx.end()) << "TX differs from uart.txt at byte " << (mismatch.first - tx.begin());
+    EXPECT_EQ(decode_serial(var("uno.D0_RX"), 104'000), "1");
+}
+
 TEST(RunCommand, SameInputsGiveByteIdenticalArtifacts) {
     TempDir dir;
     for (const char* name : {"a", "b"}) {
-        const auto r = run_command(cli() + " run --case 2 -q --out " + sh_quote((dir / name).string()));
+        const auto r = run_command(cli() + " run --case 2 -q --out " + sh_quote((dir / name).string()) +
+                                   " --vcd " + sh_quote((dir / name).string() + ".vcd"));
         ASSERT_EQ(r.exit_code, 0) << r.err;
     }
     EXPECT_EQ(read_text(dir / "a" / "uart.txt"), read_text(dir / "b" / "uart.txt"));
+    const std::string vcd = read_text(dir / "a.vcd");
+    EXPECT_GT(vcd.size(), 100'000u);
+    EXPECT_TRUE(vcd == read_text(dir / "b.vcd")) << "the VCDs of two identical runs differ";
     for (const char* f : {"eeprom.bin", "truth.csv", "firmware.csv", "eeprom_log.csv"}) {
         EXPECT_EQ(read_text(dir / "a" / f), read_text(dir / "b" / f)) << f;
     }
     json a = json::parse(read_text(dir / "a" / "summary.json"));
     json b = json::parse(read_text(dir / "b" / "summary.json"));
-    // Only the host's wall-clock figures may differ between two runs.
+    // Only the host's wall-clock figures (and the VCD's path) may differ between two runs.
     for (json* j : {&a, &b}) {
         j->erase("wall_seconds");
         j->erase("mcycles_per_s");
+        j->erase("vcd");
     }
     EXPECT_EQ(a, b);
 }
@@ -110,19 +225,27 @@ TEST(RunCommand, SameInputsGiveByteIdenticalArtifacts) {
 TEST(RunCommand, TimeLimitIsAFirmwareFailureWithArtifactsKept) {
     TempDir dir;
     const auto out = dir / "short";
-    const auto r = run_command(cli() + " run --seconds 5.5 -q --out " + sh_quote(out.string()));
+    const auto vcd = dir / "short.vcd";
+    const auto r = run_command(cli() + " run --seconds 5.5 -q --out " + sh_quote(out.string()) + " --vcd " +
+                               sh_quote(vcd.string()));
     EXPECT_EQ(r.exit_code, 3);
     EXPECT_EQ(line_count(r.err), 1) << r.err;
     EXPECT_NE(r.err.find("timeout after 5.5 simulated s"), std::string::npos) << r.err;
     const json s = json::parse(read_text(out / "summary.json"));
     EXPECT_EQ(s["exit_reason"], "timeout");
     EXPECT_EQ(read_text(out / "uart.txt"), "0.6m\r\n");
+    // The VCD is kept too, and ends at the time limit.
+    const VcdFile f = parse_vcd(read_text(vcd));
+    EXPECT_EQ(f.end_time, s["cycles_total"].get<uint64_t>() * 125 / 2);
+    EXPECT_EQ(decode_serial(f.var("ddmr_hil.uno.D1_TX"), 104'000), "0.6m\r\n");
 }
 
 TEST(RunCommand, ProfileMeasuresEveryIteration) {
     TempDir dir;
     const auto out = dir / "prof";
-    const auto r = run_command(cli() + " profile --case 2 -q --out " + sh_quote(out.string()));
+    const auto vcd = dir / "prof.vcd";
+    const auto r = run_command(cli() + " profile --case 2 -q --out " + sh_quote(out.string()) + " --vcd " +
+                               sh_quote(vcd.string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json s = json::parse(read_text(out / "summary.json"));
     // Case 2: 800 delay(9) calls; the first opens the first iteration.
@@ -132,6 +255,19 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     EXPECT_EQ(s["loop_profile"]["with_eeprom_write"]["period"]["count"], 0);  // case 2 logs nothing
     const std::string table = read_text(out / "loop_profile.csv");
     EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 800);  // header + 799 rows
+    // With the profiler the VCD's loop marker is exact: +1 at each iteration's
+    // end, the cycle loop_profile.csv gives (start of the next row).
+    const VcdFile f = parse_vcd(read_text(vcd));
+    const VcdVar& loop = f.var("ddmr_hil.firmware.loop_iteration");
+    ASSERT_EQ(loop.changes.size(), 800u);  // initial 0, then 1..799
+    EXPECT_EQ(loop.changes.back().value, 799u);
+    std::istringstream rows(table);
+    std::string line;
+    std::getline(rows, line);  // header
+    std::getline(rows, line);  // iteration 1
+    std::getline(rows, line);  // iteration 2 starts where iteration 1 ended
+    const uint64_t second_start = std::stoull(line.substr(line.find(',') + 1));
+    EXPECT_EQ(loop.changes[1].time, second_start * 125 / 2);
 }
 
 TEST(RunCommand, TraceOfExEyMatchesFirmwareCsv) {
@@ -221,7 +357,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"NotANumber", "--seconds abc", "--seconds"},
         BadInput{"MissingEeprom", "--eeprom @TMP@/none.bin", "none.bin"},
         BadInput{"ShortEeprom", "--eeprom @TMP@/not-elf.elf", "bytes, the ATmega328P has 1024"},
-        BadInput{"UnknownReadySymbol", "--ready-symbol nosuch", "no symbol 'nosuch'"}),
+        BadInput{"UnknownReadySymbol", "--ready-symbol nosuch", "no symbol 'nosuch'"},
+        BadInput{"VcdFolderMissing", "--vcd @TMP@/nodir/run.vcd", "--vcd"},
+        BadInput{"VcdIsAFolder", "--vcd @TMP@", "--vcd"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
 
 }  // namespace

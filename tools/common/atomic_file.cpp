@@ -92,4 +92,17 @@ void prepare_output_dir(const fs::path& dir) {
     }
 }
 
+void check_output_file(const fs::path& file) {
+    std::error_code ec;
+    if (file.empty() || !file.has_filename()) throw std::runtime_error("'" + file.string() + "' names no file");
+    if (fs::is_directory(file, ec)) throw std::runtime_error("a folder, not a file");
+    const fs::path parent = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+    if (!fs::is_directory(parent, ec)) {
+        throw std::runtime_error("folder " + parent.string() + " does not exist");
+    }
+    if (::access(parent.c_str(), W_OK) != 0) {
+        throw std::runtime_error("folder " + parent.string() + " is not writable: " + std::strerror(errno));
+    }
+}
+
 }  // namespace ddmr::tools

@@ -44,4 +44,10 @@ private:
 /// Call it before a run so bad output folders fail up front.
 void prepare_output_dir(const std::filesystem::path& dir);
 
+/// Checks that `file` can be written later without creating anything now:
+/// its parent folder (the current one if it has none) exists, is a folder and
+/// is writable, and `file` is not a folder. Throws std::runtime_error saying
+/// which; write nothing before calling it.
+void check_output_file(const std::filesystem::path& file);
+
 }  // namespace ddmr::tools
