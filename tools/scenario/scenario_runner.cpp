@@ -24,6 +24,8 @@
 #include "hil/robot_rig.hpp"
 #include "hil/serial_line.hpp"
 #include "hil/torn_read_detector.hpp"
+#include "hil/vcd_recorder.hpp"
+#include "hil/vcd_writer.hpp"
 #include "hostsim/host_sim.hpp"
 
 namespace ddmr::tools::scenario {
@@ -60,6 +62,10 @@ struct StepFailed {
     Verdict verdict;
     std::string message;
 };
+
+/// The failure window: the last simulated seconds before the end of a
+/// scenario that did not pass, as a VCD.
+constexpr double kVcdWindowS = 0.5;
 
 double us_of(Cycles c) { return hil::cycles_to_s(c, chip::kClockHz) * 1e6; }
 
@@ -105,6 +111,12 @@ public:
             const auto mark = elf_.require("delay");
             profiler_.emplace(rig_->core(), mark);
         }
+        // The last kVcdWindowS of pins, PWM, ISRs, kept in memory and written
+        // only if the scenario does not pass.
+        hil::VcdConfig vcd_config;
+        vcd_config.window.last_cycles = hil::s_to_cycles(kVcdWindowS, chip::kClockHz);
+        vcd_writer_.emplace([this](std::string_view text) { vcd_text_.append(text); }, vcd_config);
+        vcd_.emplace(*rig_, elf_, *vcd_writer_, profiler_ ? &*profiler_ : nullptr);
         rig_->uart().set_listener([this](const hil::UartByte& b) { on_firmware_byte(b); });
         rig_->coupler().set_boundary_hook([this](Cycles c) { on_boundary(c); });
     }
@@ -216,8 +228,8 @@ private:
 
     // --- timed actions and the boundary poll -----------------------------
     void on_boundary(Cycles c) {
+        vcd_->on_boundary(c);
         if (boundary_condition_ && boundary_condition_()) core().request_stop();
-        (void)c;
     }
     void at(Cycles cycle, std::function<void()> action) {
         timed_.push_back({cycle, std::move(action)});
@@ -621,6 +633,10 @@ private:
         write_file_atomic(out_dir_ / "isr.md", hil::to_markdown(isr_->summary()));
         write_file_atomic(out_dir_ / "eeprom_log.csv", hil::eeprom_log_csv(eeprom_log()));
         // wall time is not deterministic: it goes to stdout, not into result.json
+        if (r.verdict != Verdict::kPass) {
+            vcd_->finish();
+            write_file_atomic(out_dir_ / "failure_window.vcd", vcd_text_);
+        }
         write_file_atomic(out_dir_ / "result.json", result.dump(2) + "\n");
     }
 
@@ -633,6 +649,9 @@ private:
     std::optional<hil::IsrMonitor> isr_;
     std::optional<hil::TornReadDetector> torn_;
     std::optional<hil::LoopProfiler> profiler_;
+    std::string vcd_text_;
+    std::optional<hil::VcdWriter> vcd_writer_;
+    std::optional<hil::VcdRecorder> vcd_;
     bool armed_ = false;
     hil::SerialLine adapter_;
     std::vector<hil::LineByte> scratch_;

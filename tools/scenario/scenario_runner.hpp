@@ -17,6 +17,8 @@
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (time origin: the first write-serial)
 //   isr.md       interrupt timing table
 //   result.json  the verdict, every step with its AVR time, the failure
+//   failure_window.vcd  (only if it did not pass) the last 0.5 s of AVR time
+//                before the end: Uno pins, synthesised PWM and serial, ISRs
 
 #include <filesystem>
 #include <optional>

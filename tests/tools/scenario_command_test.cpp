@@ -1,0 +1,156 @@
+// Tests for tools/scenario_command and tools/scenario/scenario_runner: short
+// scenarios on the reference firmware, run by the real command line.
+// The sketch answers its case byte after setup()'s delay(5000): "0.6m" for
+// '1', "X" for anything else.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <string>
+
+#include "support/process.hpp"
+#include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+using nlohmann::json;
+
+std::filesystem::path write(const TempDir& dir, const std::string& name, const std::string& text) {
+    const auto p = dir / name;
+    std::ofstream(p) << text;
+    return p;
+}
+
+ProcessResult scenario(const std::string& args) {
+    return run_command(sh_quote(cli_path().string()) + " scenario " + args);
+}
+
+json result_of(const std::filesystem::path& dir) { return json::parse(read_text(dir / "result.json")); }
+
+TEST(ScenarioCommand, StartsTheCircleAndSeesThePins) {
+    TempDir dir;
+    const auto f = write(dir, "start.yaml", R"(name: start
+timeout: 8s
+steps:
+  - delay: 100ms
+  - expect-pin: { pin: 12, value: 0 }
+  - write-serial: "1"
+  - wait-serial: { text: "0.6m", timeout: 6s }
+  - expect-pin: { pin: 12, value: 1 }
+  - expect-pin: { pin: 13, value: 1 }
+  - delay: 50ms
+  - expect-pwm: { pin: 10, duty: 0.2, tol: 0.2 }
+  - expect-var: { name: Count1, type: int32, op: ">", value: 0 }
+)");
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("PASS  start"), std::string::npos) << r.out;
+    const json j = result_of(dir / "out/start");
+    EXPECT_EQ(j["verdict"], "pass");
+    ASSERT_EQ(j["steps"].size(), 9U);
+    // setup() ends with delay(5000): the answer comes about 5 s after boot.
+    const double t_answer = j["steps"][3]["t_s"].get<double>();
+    EXPECT_GT(t_answer, 5.0);
+    EXPECT_LT(t_answer, 5.1);
+    EXPECT_EQ(read_text(dir / "out/start/uart.txt"), "0.6m\r\n");
+    EXPECT_FALSE(std::filesystem::exists(dir / "out/start/failure_window.vcd"));
+}
+
+TEST(ScenarioCommand, AnAdapterAtAnotherBaudRateReadsGarbage) {
+    TempDir dir;
+    const auto f = write(dir, "baud.yaml", R"(name: baud
+timeout: 8s
+serial: { baud: 19200 }
+steps:
+  - delay: 100ms
+  - write-serial: "1"
+  - wait-serial: { text: "0.6m", timeout: 6s }
+)");
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const json j = result_of(dir / "out/baud");
+    EXPECT_EQ(j["verdict"], "fail");
+    EXPECT_NE(j["message"].get<std::string>().find("baud.yaml:7: wait-serial failed"), std::string::npos) << j["message"];
+    // The firmware's receiver made something of the 19200-baud '1' (it
+    // answered with "X"); the adapter read that at the wrong rate.
+    EXPECT_GT(j["framing_errors"].get<int>() + static_cast<int>(j["uart_bytes"].get<int>()), 0);
+    EXPECT_EQ(read_text(dir / "out/baud/uart.txt").find("X\r\n"), std::string::npos);
+    // A failure keeps a VCD window of its last half second.
+    const std::string vcd = read_text(dir / "out/baud/failure_window.vcd");
+    EXPECT_NE(vcd.find("$timescale 1ns $end"), std::string::npos);
+    EXPECT_NE(vcd.find("D1_TX"), std::string::npos);
+}
+
+TEST(ScenarioCommand, FailSerialStopsAtTheLine) {
+    TempDir dir;
+    const auto f = write(dir, "unknown.yaml", R"(name: unknown_case
+timeout: 8s
+steps:
+  - fail-serial: "^X$"
+  - write-serial: "9"
+  - delay: 7s
+)");
+    const auto junit = dir / "junit.xml";
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()) + " --junit " +
+                            sh_quote(junit.string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const json j = result_of(dir / "out/unknown_case");
+    EXPECT_NE(j["message"].get<std::string>().find("fail-serial '^X$' matched the line 'X'"), std::string::npos)
+        << j["message"];
+    EXPECT_LT(j["sim_seconds"].get<double>(), 5.2);  // stopped at the line, not after the delay
+    const std::string xml = read_text(junit);
+    EXPECT_NE(xml.find("failures=\"1\""), std::string::npos) << xml;
+    EXPECT_NE(xml.find("<testcase name=\"unknown_case\""), std::string::npos) << xml;
+}
+
+TEST(ScenarioCommand, TheScenarioTimeoutIsAFirmwareVerdict) {
+    TempDir dir;
+    const auto f = write(dir, "slow.yaml", "name: slow\ntimeout: 1s\nsteps:\n  - wait-serial: \"END\"\n");
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+    EXPECT_NE(result_of(dir / "out/slow")["message"].get<std::string>().find("timeout after 1 simulated s"),
+              std::string::npos);
+}
+
+TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
+    TempDir dir;
+    const auto good = write(dir, "good.yaml", "timeout: 1s\nsteps:\n  - delay: 1ms\n");
+    const auto bad = write(dir, "bad.yaml", "timeout: 1s\nsteps:\n  - delay: 1ms\n  - expect-pin: { pin: 2 }\n");
+    const auto r = scenario(sh_quote(good.string()) + " " + sh_quote(bad.string()) + " --out " +
+                            sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("bad.yaml:4: key 'expect-pin': missing required key 'value'"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+    const auto dup = scenario(sh_quote(good.string()) + " " + sh_quote(good.string()) + " --out " +
+                              sh_quote((dir / "out").string()));
+    EXPECT_EQ(dup.exit_code, 2);
+    EXPECT_NE(dup.err.find("is used twice"), std::string::npos) << dup.err;
+}
+
+TEST(ScenarioCommand, SameScenarioSameBytesAndParallelSameVerdicts) {
+    TempDir dir;
+    const std::string body = "timeout: 8s\nseed: 3\nsteps:\n  - write-serial: \"1\"\n  - inject: { encoder: 2, drop: 0.2 }\n"
+                             "  - wait-serial: \"0.6m\"\n  - delay: 1s\n  - expect-var: { name: Count2, type: int32, op: \">\", value: 0 }\n";
+    std::string list;
+    for (const char* name : {"a", "b", "c"}) {
+        list += " " + sh_quote(write(dir, std::string(name) + ".yaml", std::string("name: ") + name + "\n" + body).string());
+    }
+    const auto serial = scenario(list + " -j 1 --out " + sh_quote((dir / "one").string()));
+    const auto parallel = scenario(list + " -j 4 --out " + sh_quote((dir / "four").string()));
+    EXPECT_EQ(serial.exit_code, 0) << serial.out << serial.err;
+    EXPECT_EQ(parallel.exit_code, 0) << parallel.out << parallel.err;
+    for (const char* name : {"a", "b", "c"}) {
+        for (const char* file : {"uart.txt", "truth.csv", "eeprom.bin"}) {
+            EXPECT_EQ(read_text(dir / "one" / name / file), read_text(dir / "four" / name / file)) << name << file;
+        }
+    }
+    EXPECT_EQ(read_text(dir / "one/results.json"), read_text(dir / "four/results.json"));
+    // Same seed, different names: the same robot.
+    EXPECT_EQ(read_text(dir / "one/a/truth.csv"), read_text(dir / "one/b/truth.csv"));
+}
+
+}  // namespace
+}  // namespace ddmr::test
