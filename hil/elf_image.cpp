@@ -88,7 +88,16 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
     if (elf_getshdrstrndx(elf.get(), &shstrndx) != 0) {
         fail(path, std::string("corrupt section table: ") + elf_errmsg(-1));
     }
+    // The symbol table may come before .text: find .text's index first.
+    std::size_t text_index = 0;
     Elf_Scn* scn = nullptr;
+    while ((scn = elf_nextscn(elf.get(), scn)) != nullptr) {
+        GElf_Shdr shdr;
+        if (gelf_getshdr(scn, &shdr) == nullptr) continue;
+        const char* name = elf_strptr(elf.get(), shstrndx, shdr.sh_name);
+        if (name != nullptr && std::strcmp(name, ".text") == 0) text_index = elf_ndxscn(scn);
+    }
+    scn = nullptr;
     while ((scn = elf_nextscn(elf.get(), scn)) != nullptr) {
         GElf_Shdr shdr;
         if (gelf_getshdr(scn, &shdr) == nullptr) {
@@ -99,6 +108,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
         const std::string sname(name);
         if (sname == ".text") {
             img.memory_.text_bytes = static_cast<uint32_t>(shdr.sh_size);
+            img.text_address_ = static_cast<uint32_t>(shdr.sh_addr);
             Elf_Data* d = elf_getdata(scn, nullptr);
             if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
             const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
@@ -131,6 +141,13 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
                 s.size = static_cast<uint32_t>(sym.st_size);
                 s.is_function = type == STT_FUNC;
                 s.is_object = type == STT_OBJECT;
+                const int bind = GELF_ST_BIND(sym.st_info);
+                s.binding = bind == STB_GLOBAL ? ElfBinding::kGlobal
+                            : bind == STB_WEAK ? ElfBinding::kWeak
+                                               : ElfBinding::kLocal;
+                // The linker script puts some data-space markers (_end) in .text's
+                // index with a 0x800000 address: not code.
+                s.in_text = text_index != 0 && sym.st_shndx == text_index && sym.st_value < kAvrDataOffset;
                 auto addr = static_cast<uint32_t>(sym.st_value);
                 if (addr >= kAvrDataOffset && addr < kAvrDataOffset + 0x10000) addr -= kAvrDataOffset;
                 s.address = addr;

@@ -2,7 +2,8 @@
 // An AVR firmware ELF file as the HIL needs it, read with libelf: its machine
 // and architecture (to refuse firmware built for another chip), its section
 // sizes (flash and RAM use), and its symbol table (addresses and sizes of
-// functions and globals, to watch the firmware without changing it).
+// functions and globals, to watch the firmware without changing it; binding
+// and section too, so FunctionMap can tell code entry points from labels).
 
 #include <cstdint>
 #include <filesystem>
@@ -12,14 +13,19 @@
 
 namespace ddmr::hil {
 
+/// How far a symbol is visible (the ELF STB_ binding).
+enum class ElfBinding : uint8_t { kLocal, kGlobal, kWeak };
+
 /// One entry of the ELF symbol table.
 struct ElfSymbol {
     std::string name;       ///< raw (mangled) name
     uint32_t address = 0;   ///< flash byte address for functions; data-space address for
                             ///< objects (the 0x800000 offset of avr-gcc is removed)
     uint32_t size = 0;      ///< bytes
-    bool is_function = false;
-    bool is_object = false;
+    bool is_function = false;  ///< STT_FUNC
+    bool is_object = false;    ///< STT_OBJECT
+    ElfBinding binding = ElfBinding::kLocal;
+    bool in_text = false;      ///< defined in the .text section (code and PROGMEM)
 };
 
 /// Flash and RAM use, as avr-size reports them.
@@ -48,6 +54,9 @@ public:
     uint32_t flags() const { return flags_; }
     const ElfMemoryUse& memory_use() const { return memory_; }
     const std::vector<ElfSymbol>& symbols() const { return symbols_; }
+    /// Flash byte addresses of the .text section: [text_begin, text_end).
+    uint32_t text_begin() const { return text_address_; }
+    uint32_t text_end() const { return text_address_ + memory_.text_bytes; }
     /// MCU name from simavr's .mmcu section, when the firmware has one.
     const std::optional<std::string>& mmcu() const { return mmcu_; }
 
@@ -63,6 +72,7 @@ private:
     uint16_t machine_ = 0;
     uint32_t flags_ = 0;
     ElfMemoryUse memory_;
+    uint32_t text_address_ = 0;
     std::vector<ElfSymbol> symbols_;
     std::optional<std::string> mmcu_;
     std::vector<uint8_t> vector_table_;  ///< first bytes of .text

@@ -52,9 +52,11 @@ void LoopProfiler::on_instruction() {
     inside_ = false;  // RET: back in the caller
     const Cycles now = core_.cycle();
     if (!armed_) return;
-    if (have_start_) iterations_.push_back(LoopIteration{start_cycle_, entry_cycle_, now, false});
+    const bool completed = have_start_;
+    if (completed) iterations_.push_back(LoopIteration{start_cycle_, entry_cycle_, now, false});
     have_start_ = true;
     start_cycle_ = now;
+    if (listener_) listener_(completed);
 }
 
 void LoopProfiler::tag_eeprom_writes(const std::vector<Cycles>& write_cycles) {

@@ -15,6 +15,7 @@
 // callees push below it).
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,16 @@ public:
     /// calls, such as setup()'s delay(5000), are not iterations).
     void arm() { armed_ = true; }
 
+    /// Called at every return of the mark once armed, right after the
+    /// iteration is recorded: `completed` is false for the first return
+    /// (it only opens the first iteration) and true whenever an iteration
+    /// ends (then iterations().back() is the one that ended, and the next
+    /// one starts at the same cycle). Lets other profilers split their
+    /// counts at exactly the same boundaries.
+    void set_iteration_listener(std::function<void(bool completed)> listener) {
+        listener_ = std::move(listener);
+    }
+
     const std::vector<LoopIteration>& iterations() const { return iterations_; }
     /// Marks the iterations whose compute part contains one of these cycles.
     void tag_eeprom_writes(const std::vector<Cycles>& write_cycles);
@@ -73,6 +84,7 @@ private:
     bool have_start_ = false;
     Cycles start_cycle_ = 0;
     std::vector<LoopIteration> iterations_;
+    std::function<void(bool)> listener_;
 };
 
 }  // namespace ddmr::hil

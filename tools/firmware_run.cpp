@@ -14,9 +14,11 @@
 #include "common/sha256.hpp"
 #include "common/truth_csv.hpp"
 #include "exit_codes.hpp"
+#include "function_profile_output.hpp"
 #include "hil/board.hpp"
 #include "hil/eeprom_log.hpp"
 #include "hil/elf_image.hpp"
+#include "hil/function_profiler.hpp"
 #include "hil/gdb_server.hpp"
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_tracer.hpp"
@@ -252,6 +254,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     elf.require_atmega328p();
     const hil::ElfSymbol ready = elf.require(options.ready_symbol);
     std::optional<hil::ElfSymbol> loop_mark;
+    if (options.profile_top == 0) {
+        throw std::invalid_argument("--top 0: give the number of functions to print, >= 1");
+    }
     if (options.profile) {
         loop_mark = elf.require(options.loop_mark);
         if (!loop_mark->is_function || loop_mark->size == 0) {
@@ -283,7 +288,14 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     std::optional<hil::TornReadDetector> torn_reads;
     if (elf.find("Count1") && elf.find("Count2")) torn_reads.emplace(core, elf);
     std::optional<hil::LoopProfiler> profiler;
-    if (loop_mark) profiler.emplace(core, *loop_mark);
+    // The function profile's control-loop scope uses the loop profiler's
+    // iterations; built before the first instruction, it sees the whole stack.
+    std::optional<hil::FunctionProfiler> function_profiler;
+    if (loop_mark) {
+        profiler.emplace(core, *loop_mark);
+        function_profiler.emplace(core);
+        profiler->set_iteration_listener([&](bool completed) { function_profiler->on_loop_boundary(completed); });
+    }
     // trace.csv: the user's globals, per iteration or every N cycles.
     std::vector<hil::TracedVariable> trace_vars;
     for (const auto& spec : options.trace) trace_vars.push_back(parse_trace_spec(spec, elf));
@@ -522,6 +534,14 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         loop_profile["mark"] = options.loop_mark;
         loop_profile_csv = loop_profile_table(result.loop_profile, core.clock_hz());
     }
+    json function_profile = nullptr;
+    std::string function_profile_txt;
+    if (function_profiler) {
+        const FunctionProfileContext context{core.clock_hz(), options.loop_mark};
+        function_profile = function_profile_json(*function_profiler, context);
+        function_profile_txt = function_profile_text(*function_profiler, context);
+        result.function_profile_top = ddmr::tools::function_profile_top(*function_profiler, context, options.profile_top);
+    }
     const hil::IsrSummary isr_summary = isr_monitor.summary();
     json isr = isr_json(isr_summary);
     json torn = nullptr;
@@ -593,6 +613,12 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         {"eeprom_writes", rig.eeprom_timing().writes().size()},
         {"loop_profile", loop_profile},
         {"vcd", options.vcd ? json(options.vcd->string()) : json(nullptr)},
+        {"function_profile",
+         function_profiler ? json{{"details", "profile.json"},
+                                  {"control_loop_iterations", function_profiler->control_loop().iterations},
+                                  {"max_stack_depth", function_profiler->max_depth_seen()},
+                                  {"stack_overflows", function_profiler->stack_overflows()}}
+                           : json(nullptr)},
         {"isr", {{"isr_share", static_cast<double>(isr_summary.isr_cycles) /
                                    static_cast<double>(std::max<Cycles>(1, isr_summary.observed_cycles()))},
                  {"torn_reads", torn.is_null() ? json(nullptr) : json{{"Count1", torn["Count1"]}, {"Count2", torn["Count2"]}}},
@@ -610,6 +636,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                                        result.eeprom.size()));
     write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
     if (profiler) write_file_atomic(options.out_dir / "loop_profile.csv", loop_profile_csv);
+    if (function_profiler) {
+        write_file_atomic(options.out_dir / "profile.json", function_profile.dump(2) + "\n");
+        write_file_atomic(options.out_dir / "profile.txt", function_profile_txt);
+    }
     write_file_atomic(options.out_dir / "isr.json", isr.dump(2) + "\n");
     write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary));
     if (trace_csv) trace_csv->commit();

@@ -12,6 +12,14 @@
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (sample, t_s, x_m, y_m)
 //   summary.json    firmware identity, cycle counts, timing, exit reason, the
 //                   parsed firmware report, encoder counts and end poses
+//   isr.json, isr.md  per-vector interrupt timing and torn reads
+// With --trace:
+//   trace.csv       the chosen firmware globals per iteration or every N cycles
+// With --profile:
+//   loop_profile.csv  compute / wait / period of every control-loop iteration
+//   profile.json    flat per-function profile (calls, self and inclusive
+//                   cycles) for the whole run and the control loop only
+//   profile.txt     the same as sorted text tables
 //   (--vcd FILE)    a value-change dump for GTKWave at FILE (anywhere, not
 //                   only in out_dir): Uno pins 0-3 and 10-13 with the
 //                   synthesised serial frames and PWM, one signal per ISR,
@@ -59,6 +67,7 @@ struct FirmwareRunOptions {
     hil::Cycles coupling_step_cycles = 1000;  ///< plant step [cycles] = max input latency
     bool profile = false;                 ///< exact loop cycle counts (single-steps: slower)
     std::string loop_mark = "delay";      ///< the function each loop iteration calls once
+    std::size_t profile_top = 10;         ///< functions in the stdout table with profile, >= 1
     /// Firmware globals for trace.csv: "name" or "name:type" (type: int8 ...
     /// uint32, float; default by size: 1 uint8, 2 int16, 4 float).
     std::vector<std::string> trace;
@@ -102,6 +111,7 @@ struct FirmwareRunResult {
     double mean_loop_period_s = 0.0;  ///< over the traced iterations
     std::size_t eeprom_log_samples = 0;
     std::vector<hil::LoopIteration> loop_profile;  ///< with FirmwareRunOptions::profile
+    std::string function_profile_top;  ///< with profile: the top-N table for stdout
 };
 
 /// Validates every input (throws std::runtime_error / std::invalid_argument

@@ -77,7 +77,8 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
     if (!profile_always) {
         sub->add_flag("--profile", cli->options.profile,
-                      "Exact control-loop cycle counts (loop_profile.csv; single-steps: several times slower)");
+                      "Exact control-loop cycle counts (loop_profile.csv) and a flat per-function profile "
+                      "(profile.json, profile.txt; single-steps: several times slower)");
     }
     sub->add_option("--trace", cli->options.trace,
                     "Firmware globals to sample into trace.csv, by symbol: NAME or NAME:TYPE (int8 ... uint32, "
@@ -100,6 +101,11 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "time in ns of AVR time");
     sub->add_option("--loop-mark", cli->options.loop_mark,
                     "With --profile: the function each loop iteration calls once (its call ends the compute part)")
+        ->capture_default_str();
+    sub->add_option("--top", cli->options.profile_top,
+                    "With --profile: print the N functions with the most self cycles (profile.json and "
+                    "profile.txt list all)")
+        ->check(CLI::Range(std::size_t{1}, std::size_t{100'000}))
         ->capture_default_str();
 
     return Subcommand{sub, [cli, profile_always]() {
@@ -153,6 +159,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         hil::cycles_to_s(max_compute) * 1e6, hil::cycles_to_s(sum_period) / n * 1e3,
                         hil::cycles_to_s(max_period) * 1e3);
         }
+        if (!r.function_profile_top.empty()) {
+            std::printf("%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
+        }
         return kExitOk;
     }};
 }
@@ -169,7 +178,8 @@ Subcommand register_run_command(CLI::App& app) {
 
 Subcommand register_profile_command(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
-        "profile", "`run --profile`: the run, plus exact cycle counts of every control-loop iteration");
+        "profile", "`run --profile`: the run, plus exact cycle counts of every control-loop iteration and a "
+                   "flat per-function profile (profile.json, profile.txt, the top N on stdout)");
     return add_run_options(sub, std::make_shared<RunCli>(), true);
 }
 

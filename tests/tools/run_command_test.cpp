@@ -244,7 +244,7 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     TempDir dir;
     const auto out = dir / "prof";
     const auto vcd = dir / "prof.vcd";
-    const auto r = run_command(cli() + " profile --case 2 -q --out " + sh_quote(out.string()) + " --vcd " +
+    const auto r = run_command(cli() + " profile --case 2 -q --top 3 --out " + sh_quote(out.string()) + " --vcd " +
                                sh_quote(vcd.string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const json s = json::parse(read_text(out / "summary.json"));
@@ -268,6 +268,36 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     std::getline(rows, line);  // iteration 2 starts where iteration 1 ended
     const uint64_t second_start = std::stoull(line.substr(line.find(',') + 1));
     EXPECT_EQ(loop.changes[1].time, second_start * 125 / 2);
+
+    // The function profile: both scopes, sorted by self cycles; the control
+    // loop holds the same 799 iterations.
+    const json p = json::parse(read_text(out / "profile.json"));
+    for (const char* scope : {"whole_run", "control_loop"}) {
+        const json& sc = p["scopes"][scope];
+        const auto& fs = sc["functions"];
+        ASSERT_GT(fs.size(), 20u) << scope;
+        uint64_t self_sum = 0;
+        for (std::size_t i = 0; i < fs.size(); ++i) {
+            self_sum += fs[i]["self_cycles"].get<uint64_t>();
+            if (i > 0) {
+                EXPECT_GE(fs[i - 1]["self_cycles"].get<uint64_t>(), fs[i]["self_cycles"].get<uint64_t>());
+            }
+        }
+        EXPECT_EQ(self_sum, sc["cycles"].get<uint64_t>()) << scope;
+        const auto mul = std::find_if(fs.begin(), fs.end(), [](const json& f) { return f["name"] == "__mulsf3"; });
+        ASSERT_NE(mul, fs.end()) << scope;
+        EXPECT_GT((*mul)["calls"].get<uint64_t>(), 0u);
+    }
+    EXPECT_EQ(p["scopes"]["control_loop"]["iterations"], 799);
+    EXPECT_EQ(p["scopes"]["whole_run"]["cycles"], s["cycles_total"]);
+    EXPECT_EQ(p["stack"]["overflows"], 0);
+    const std::string text = read_text(out / "profile.txt");
+    EXPECT_NE(text.find("Whole run"), std::string::npos);
+    EXPECT_NE(text.find("Control loop"), std::string::npos);
+    // --top 3: three ranked rows per scope on stdout.
+    EXPECT_NE(r.out.find("Top 3 by self cycles. Whole run"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\n   3  "), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("\n   4  "), std::string::npos) << r.out;
 }
 
 TEST(RunCommand, TraceOfExEyMatchesFirmwareCsv) {
@@ -359,7 +389,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"ShortEeprom", "--eeprom @TMP@/not-elf.elf", "bytes, the ATmega328P has 1024"},
         BadInput{"UnknownReadySymbol", "--ready-symbol nosuch", "no symbol 'nosuch'"},
         BadInput{"VcdFolderMissing", "--vcd @TMP@/nodir/run.vcd", "--vcd"},
-        BadInput{"VcdIsAFolder", "--vcd @TMP@", "--vcd"}),
+        BadInput{"VcdIsAFolder", "--vcd @TMP@", "--vcd"},
+        BadInput{"TopZero", "--profile --top 0", "--top"},
+        BadInput{"TopNotANumber", "--profile --top many", "--top"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
 
 }  // namespace

@@ -1,0 +1,196 @@
+// FunctionProfiler: exact self/inclusive cycles and calls on a hand-counted
+// fixture, and the accounting identities on the reference firmware (case 1).
+#include "hil/function_profiler.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "hil/isr_monitor.hpp"
+#include "hil/loop_profiler.hpp"
+#include "hil/robot_rig.hpp"
+#include "support/square_wave_input.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+using hil::Cycles;
+using hil::FunctionCounts;
+using hil::FunctionProfiler;
+
+const FunctionCounts& counts(const FunctionProfiler& p, const hil::ProfileScope& scope, const char* name) {
+    const auto id = p.map().find(name);
+    if (!id) throw std::runtime_error(std::string("no function ") + name);
+    return scope.functions[*id];
+}
+
+Cycles self_sum(const hil::ProfileScope& scope) {
+    return std::accumulate(scope.functions.begin(), scope.functions.end(), Cycles{0},
+                           [](Cycles a, const FunctionCounts& f) { return a + f.self_cycles; });
+}
+
+// tests/firmware/profile_fixture.c (avr-objdump -d; cycles from the
+// ATmega328P instruction set summary, 16-bit PC: NOP 1, RJMP 2, JMP 3,
+// CALL 4, RET 4, RETI 4):
+//   0x0000 __vectors:  jmp __init (reset, 3); 0x0004 jmp __vector_1 (3)
+//   0x0068 __init:     eor, out, ldi, ldi, out, out (6 x 1), call main (4) = 10
+//   0x0080 leaf:       nop x4, ret                           = 8
+//   0x008a middle:     nop, call leaf, nop, ret              = 10 self
+//   0x0094 tailer:     nop, jmp leaf                         = 4 self
+//   0x009a mark:       nop, nop, ret                         = 6
+//   0x00a0 __vector_1: nop, call leaf, nop, reti             = 10 self
+//   0x00b4 main loop:  call middle, call tailer, call mark, rjmp .-14 = 14 self
+// One iteration of the loop, from mark's return to the next (N of them):
+//   main self 14, calls 0, inclusive 50 (everything below it)
+//   middle self 10, calls 1, inclusive 10 + 8 = 18
+//   tailer self 4, calls 1, inclusive 4 + 8 = 12 (leaf's tail frame is above it)
+//   leaf self 16, calls 2 (one CALL, one tail JMP), inclusive 16
+//   mark self 6, calls 1, inclusive 6                          period 50
+// One INT0 interrupt (E of them), wherever it lands:
+//   __vectors self 3 (its JMP), __vector_1 self 10, calls 1, inclusive 18,
+//   leaf self +8, calls +1; 21 cycles of interrupt time, none of them charged
+//   to the interrupted function's inclusive.
+TEST(FunctionProfiler, FixtureHasHandCountedCyclesAndCalls) {
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "profile_fixture.elf");
+    hil::AvrCore core(elf);
+    FunctionProfiler prof(core);  // before the first instruction: the whole stack
+    hil::LoopProfiler loop(core, elf.require("mark"));
+    loop.set_iteration_listener([&](bool completed) { prof.on_loop_boundary(completed); });
+    loop.arm();
+    // INT0 edges every 997 cycles: they land in every function of the loop.
+    SquareWaveInput wave(core, 'D', 2, 997);
+    core.run_until(100'000);
+
+    const auto& cl = prof.control_loop();
+    const uint64_t n = cl.iterations;
+    const uint64_t e = counts(prof, cl, "__vector_1").calls;
+    ASSERT_EQ(n, loop.iterations().size());
+    ASSERT_GT(n, 1500u);  // 100,000 cycles / (50 + ISRs) per iteration
+    ASSERT_GT(e, 90u);    // 100 edges, all but the first and last few inside iterations
+    Cycles periods = 0;
+    for (const auto& it : loop.iterations()) periods += it.period();
+    EXPECT_EQ(cl.cycles, periods);
+    EXPECT_EQ(cl.cycles, 50 * n + 21 * e);
+    EXPECT_EQ(cl.interrupt_cycles, 21 * e);
+    EXPECT_EQ(self_sum(cl), cl.cycles);
+
+    const auto check = [&](const char* name, uint64_t calls, Cycles self, Cycles inclusive) {
+        const FunctionCounts& f = counts(prof, cl, name);
+        EXPECT_EQ(f.calls, calls) << name;
+        EXPECT_EQ(f.self_cycles, self) << name;
+        EXPECT_EQ(f.inclusive_cycles, inclusive) << name;
+    };
+    check("main", 0, 14 * n, 50 * n);  // interrupts are not charged to main
+    check("middle", n, 10 * n, 18 * n);
+    check("tailer", n, 4 * n, 12 * n);
+    check("leaf", 2 * n + e, 16 * n + 8 * e, 16 * n + 8 * e);
+    check("mark", n, 6 * n, 6 * n);
+    check("__vector_1", e, 10 * e, 18 * e);
+    // The root frame: all non-interrupt cycles plus the vector JMPs.
+    check("__vectors", 0, 3 * e, 50 * n + 3 * e);
+
+    // Whole run: start-up code exactly; every cycle in exactly one function.
+    const auto& all = prof.whole_run();
+    EXPECT_EQ(all.cycles, core.cycle());
+    EXPECT_EQ(self_sum(all), all.cycles);
+    const FunctionCounts& init = counts(prof, all, "__init");
+    EXPECT_EQ(init.calls, 1u);  // the reset vector's JMP
+    EXPECT_EQ(init.self_cycles, 10u);
+    EXPECT_EQ(counts(prof, all, "main").calls, 1u);
+    const uint64_t e_all = counts(prof, all, "__vector_1").calls;
+    EXPECT_EQ(e_all, wave.edges());
+    EXPECT_EQ(counts(prof, all, "__vectors").self_cycles, 3 + 3 * e_all);
+    EXPECT_EQ(counts(prof, all, "__vectors").inclusive_cycles, all.cycles - all.interrupt_cycles + 3 * e_all);
+    EXPECT_EQ(counts(prof, all, "__bad_interrupt").calls, 0u);
+    // The stack: __vectors, __init (tail), main, middle, leaf, __vector_1, leaf at most.
+    EXPECT_LE(prof.max_depth_seen(), 7u);
+    EXPECT_EQ(prof.stack_overflows(), 0u);
+    EXPECT_EQ(prof.mid_function_branches(), 0u);
+    const auto stack = prof.call_stack();
+    ASSERT_GE(stack.size(), 3u);
+    EXPECT_EQ(prof.map().function(stack[0]).name, "__vectors");
+    EXPECT_EQ(prof.map().function(stack[1]).name, "__init");
+    EXPECT_EQ(prof.map().function(stack[2]).name, "main");
+}
+
+TEST(FunctionProfiler, BoundedStackOverflowsButKeepsSelfCyclesExact) {
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "profile_fixture.elf");
+    hil::AvrCore core(elf);
+    FunctionProfiler prof(core, 3);  // __vectors, __init, main: no room for callees
+    SquareWaveInput wave(core, 'D', 2, 997);
+    core.run_until(20'000);
+    EXPECT_EQ(prof.max_depth_seen(), 3u);
+    EXPECT_GT(prof.stack_overflows(), 100u);
+    EXPECT_EQ(prof.call_stack().size(), 3u);
+    EXPECT_EQ(self_sum(prof.whole_run()), core.cycle());
+    EXPECT_THROW(FunctionProfiler(core, 1), std::invalid_argument);
+}
+
+TEST(FunctionProfiler, ReferenceFirmwareCase1) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    hil::RobotRig rig(elf, hil::RigConfig{});
+    hil::AvrCore& core = rig.core();
+    FunctionProfiler prof(core);
+    hil::IsrMonitor isr(core, elf);
+    hil::LoopProfiler loop(core, elf.require("delay"));
+    loop.set_iteration_listener([&](bool completed) { prof.on_loop_boundary(completed); });
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)), hil::RunStop::kCondition);
+    loop.arm();
+    rig.uart().send("1");
+    core.run_until(core.cycle() + hil::s_to_cycles(13.0));
+
+    const auto& all = prof.whole_run();
+    const auto& cl = prof.control_loop();
+    // Every cycle observed is some function's self cycle.
+    EXPECT_EQ(all.cycles, core.cycle());
+    EXPECT_EQ(self_sum(all), all.cycles);
+    EXPECT_EQ(self_sum(cl), cl.cycles);
+    // The float and math routines the control law runs on.
+    for (const char* name : {"__mulsf3", "__addsf3", "sin", "cos", "__fp_powser"}) {
+        EXPECT_GT(counts(prof, cl, name).calls, 1000u) << name;
+        EXPECT_GT(counts(prof, cl, name).self_cycles, 0u) << name;
+    }
+    // One delay() per iteration: the mark that delimits them.
+    EXPECT_EQ(cl.iterations, 1199u);
+    EXPECT_EQ(cl.iterations, loop.iterations().size());
+    EXPECT_EQ(counts(prof, cl, "delay").calls, cl.iterations);
+    Cycles periods = 0;
+    for (const auto& it : loop.iterations()) periods += it.period();
+    EXPECT_EQ(cl.cycles, periods);
+    // Interrupt time as the IsrMonitor measures it from simavr's signals.
+    EXPECT_EQ(all.interrupt_cycles, isr.summary().isr_cycles);
+    // main runs everything outside interrupts except the start-up code
+    // (copying .data, clearing .bss, the constructors: a few thousand cycles).
+    const FunctionCounts& main = counts(prof, all, "main");
+    EXPECT_EQ(main.calls, 1u);
+    const Cycles outside_isr = all.cycles - all.interrupt_cycles;
+    EXPECT_LT(main.inclusive_cycles, outside_isr);
+    EXPECT_LT(outside_isr - main.inclusive_cycles, 5'000u);
+    EXPECT_EQ(counts(prof, cl, "main").inclusive_cycles, cl.cycles - cl.interrupt_cycles);
+    // Inclusive >= self for every function; the control loop is a strict
+    // subset of the whole run.
+    EXPECT_LT(cl.cycles, all.cycles);
+    EXPECT_LT(cl.interrupt_cycles, all.interrupt_cycles);
+    for (std::size_t id = 0; id < all.functions.size(); ++id) {
+        const auto& w = all.functions[id];
+        const auto& c = cl.functions[id];
+        const auto& name = prof.map().function(static_cast<hil::FunctionId>(id)).name;
+        EXPECT_GE(w.inclusive_cycles, w.self_cycles) << name;
+        EXPECT_LE(c.self_cycles, w.self_cycles) << name;
+        EXPECT_LE(c.inclusive_cycles, w.inclusive_cycles) << name;
+        EXPECT_LE(c.calls, w.calls) << name;
+    }
+    EXPECT_LT(counts(prof, cl, "delay").calls, counts(prof, all, "delay").calls);  // setup()'s delays
+    // Nothing executed outside .text; a shallow stack, never overflowed.
+    EXPECT_EQ(all.functions[prof.map().outside()].self_cycles, 0u);
+    EXPECT_LT(prof.max_depth_seen(), 16u);
+    EXPECT_EQ(prof.stack_overflows(), 0u);
+    // libm's shared tails (__mulsf3x -> __mulsf3's zero result, __fp_split3
+    // -> __fp_splitA's subnormal path): rare, and never counted as calls.
+    EXPECT_GT(prof.mid_function_branches(), 0u);
+    EXPECT_LT(prof.mid_function_branches(), counts(prof, all, "__mulsf3").calls / 10);
+}
+
+}  // namespace
+}  // namespace ddmr::test
