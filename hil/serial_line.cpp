@@ -68,9 +68,15 @@ void SerialLine::push(double start, uint8_t value, double tx_bit_cycles, std::ve
         throw std::invalid_argument("serial line: sender bit time must be > 0 cycles");
     }
     if (!frames_.empty()) start = std::max(start, frames_.back().end());
+    start = std::max(start, settled_);
     // Everything the receiver samples before this frame starts is settled.
     decode(start, out);
     frames_.push_back(Frame{start, tx_bit_cycles, value});
+}
+
+void SerialLine::settle(double now, std::vector<LineByte>& out) {
+    settled_ = std::max(settled_, now);
+    decode(settled_, out);
 }
 
 void SerialLine::flush(std::vector<LineByte>& out) {

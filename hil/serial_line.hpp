@@ -46,6 +46,9 @@ public:
     /// previous frame: it is delayed to it, as a transmitter would) with bit
     /// time `tx_bit_cycles` > 0. Appends the bytes it can now decode.
     void push(double start, uint8_t value, double tx_bit_cycles, std::vector<LineByte>& out);
+    /// Decodes everything the receiver has sampled by `now`, given that no
+    /// frame will start before `now` (later pushes start at or after it).
+    void settle(double now, std::vector<LineByte>& out);
     /// Decodes what is left (the line stays idle after the last frame).
     void flush(std::vector<LineByte>& out);
 
@@ -71,6 +74,7 @@ private:
     double rx_bit_;
     std::deque<Frame> frames_;
     double search_from_ = 0.0;  ///< the receiver looks for a start bit from here
+    double settled_ = 0.0;      ///< no frame starts before this
     uint64_t framing_errors_ = 0;
 };
 

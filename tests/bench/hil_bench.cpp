@@ -7,6 +7,16 @@
 //                           simavr runs by default: run_cycle_limit = 1)
 //   FullHilCase1          : RobotRig defaults: switched PWM, encoders,
 //                           datasheet EEPROM timing, ground truth sampled
+//   RunCase1              : `ddmr-hil run` (run_firmware): the rig plus the ISR
+//                           monitor, torn-read detector, loop tracer and every
+//                           artifact written; profiling, VCD and gdb off. Its
+//                           ratio to FullHilCase1 is what having those
+//                           features costs when they are off (issue 6)
+//   RunCase1Profile       : the same with --profile (loop profiler and flat
+//                           function profile: single-stepping)
+//   RunCase1Vcd           : the same with --vcd
+//   ShippedScenarioSuite  : `ddmr-hil scenario tests/scenarios/*.yaml -j 2`,
+//                           wall seconds (issue 7's two-minute goal)
 //
 // Each runs boot + case 1 to the end of its report (~19.6 simulated s); the
 // figure is simulated Mcycles per wall second, repeated for a median. The
@@ -18,10 +28,15 @@
 #include <sim_cycle_timers.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+#include <unistd.h>
 #include <fstream>
 #include <map>
 #include <string>
 
+#include "firmware_run.hpp"
 #include "hil/firmware_report.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/uart_link.hpp"
@@ -96,8 +111,59 @@ void BM_FullHilCase1(benchmark::State& state) {
                                                          benchmark::Counter::kIsRate);
 }
 
+/// A scratch folder for one benchmark's outputs, removed afterwards.
+struct ScratchDir {
+    std::filesystem::path path;
+    ScratchDir() {
+        std::string pattern = (std::filesystem::temp_directory_path() / "ddmr-bench-XXXXXX").string();
+        if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+        path = pattern;
+    }
+    ~ScratchDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+};
+
+void run_case1(benchmark::State& state, bool profile, bool vcd) {
+    Cycles cycles = 0;
+    for (auto _ : state) {
+        ScratchDir dir;
+        tools::FirmwareRunOptions o;
+        o.firmware = DDMR_BENCH_FIRMWARE_ELF;
+        o.out_dir = dir.path / "run";
+        o.profile = profile;
+        if (vcd) o.vcd = dir.path / "run.vcd";
+        const tools::FirmwareRunResult r = tools::run_firmware(o);
+        if (r.exit != tools::RunExit::kReportComplete) state.SkipWithError("case 1 did not complete");
+        cycles += r.cycles_total;
+    }
+    state.counters["Mcycles_per_s"] = benchmark::Counter(static_cast<double>(cycles) / 1e6,
+                                                         benchmark::Counter::kIsRate);
+}
+void BM_RunCase1(benchmark::State& state) { run_case1(state, false, false); }
+void BM_RunCase1Profile(benchmark::State& state) { run_case1(state, true, false); }
+void BM_RunCase1Vcd(benchmark::State& state) { run_case1(state, false, true); }
+
+void BM_ShippedScenarioSuite(benchmark::State& state) {
+    std::string files;
+    for (const auto& e : std::filesystem::directory_iterator(DDMR_BENCH_SCENARIO_DIR)) {
+        if (e.path().extension() == ".yaml") files += " '" + e.path().string() + "'";
+    }
+    for (auto _ : state) {
+        ScratchDir dir;
+        const std::string cmd = std::string("'") + DDMR_BENCH_CLI + "' scenario" + files + " -j 2 --out '" +
+                                (dir.path / "out").string() + "' >/dev/null 2>&1";
+        if (std::system(cmd.c_str()) != 0) state.SkipWithError("a shipped scenario failed");
+    }
+}
+
 BENCHMARK(BM_BareSimavrDefaultLoop)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_FullHilCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1Profile)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1Vcd)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_ShippedScenarioSuite)->Iterations(1)->Repetitions(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 /// Keeps the median Mcycles/s of each benchmark while printing as usual.
 class MedianCollector : public benchmark::ConsoleReporter {
@@ -128,12 +194,24 @@ int main(int argc, char** argv) {
     benchmark::Shutdown();
     const double bare = reporter.medians["BM_BareSimavrDefaultLoop"];
     const double hil = reporter.medians["BM_FullHilCase1"];
-    if (bare > 0 && hil > 0) {
-        std::printf("\nmedian Mcycles/s: bare simavr (default loop) %.1f, full HIL %.1f, ratio HIL/bare %.2f\n",
-                    bare, hil, hil / bare);
+    const double run = reporter.medians["BM_RunCase1"];
+    const double prof = reporter.medians["BM_RunCase1Profile"];
+    const double vcd = reporter.medians["BM_RunCase1Vcd"];
+    if (bare > 0 && hil > 0 && run > 0 && prof > 0 && vcd > 0) {
+        std::printf("\nmedian Mcycles/s: bare simavr (default loop) %.1f, full HIL %.1f (%.2fx bare)\n"
+                    "  run, features off %.1f (%.3fx the bare rig: their cost when off)\n"
+                    "  run --profile %.1f (%.2fx bare, %.1fx real time)\n"
+                    "  run --vcd %.1f (%.3fx run)\n",
+                    bare, hil, hil / bare, run, run / hil, prof, prof / bare, prof / 16.0, vcd, vcd / run);
         std::ofstream(ratio_out) << "{\n  \"bare_default_loop_mcycles_per_s\": " << bare
                                  << ",\n  \"full_hil_mcycles_per_s\": " << hil
-                                 << ",\n  \"ratio_hil_over_bare\": " << hil / bare << "\n}\n";
+                                 << ",\n  \"ratio_hil_over_bare\": " << hil / bare
+                                 << ",\n  \"run_mcycles_per_s\": " << run
+                                 << ",\n  \"ratio_run_over_rig\": " << run / hil
+                                 << ",\n  \"run_profile_mcycles_per_s\": " << prof
+                                 << ",\n  \"profile_real_time_factor\": " << prof / 16.0
+                                 << ",\n  \"run_vcd_mcycles_per_s\": " << vcd
+                                 << ",\n  \"ratio_vcd_over_run\": " << vcd / run << "\n}\n";
     }
     return 0;
 }

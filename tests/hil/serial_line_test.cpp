@@ -123,6 +123,26 @@ TEST(SerialLine, FramesNeverOverlap) {
     EXPECT_DOUBLE_EQ(out[1].cycle, 10.0 * 1664.0 + 9.5 * 1664.0);
 }
 
+TEST(SerialLine, SettleDeliversTheLastByteOnceItsStopBitIsSampled) {
+    SerialLine line(1664.0);
+    std::vector<LineByte> out;
+    line.push(0.0, '\n', 1664.0, out);
+    line.settle(9.5 * 1664.0 - 1.0, out);
+    EXPECT_TRUE(out.empty());  // the stop bit is sampled at 15808
+    line.settle(9.5 * 1664.0 + 1.0, out);
+    ASSERT_EQ(out.size(), 1U);
+    EXPECT_EQ(out[0].value, '\n');
+    // A frame pushed for an earlier time starts when the line is free: after
+    // the previous frame's stop bit (16640) and not before the settled time.
+    line.push(0.0, 'A', 1664.0, out);
+    line.settle(40000.0, out);
+    line.push(0.0, 'B', 1664.0, out);
+    line.flush(out);
+    ASSERT_EQ(out.size(), 3U);
+    EXPECT_DOUBLE_EQ(out[1].cycle, 10.0 * 1664.0 + 9.5 * 1664.0);
+    EXPECT_DOUBLE_EQ(out[2].cycle, 40000.0 + 9.5 * 1664.0);
+}
+
 TEST(SerialLine, RefusesNonPositiveBitTimes) {
     EXPECT_THROW(SerialLine(0.0), std::invalid_argument);
     SerialLine line(1664.0);

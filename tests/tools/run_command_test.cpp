@@ -284,7 +284,7 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
             }
         }
         EXPECT_EQ(self_sum, sc["cycles"].get<uint64_t>()) << scope;
-        const auto mul = std::find_if(fs.begin(), fs.end(), [](const json& f) { return f["name"] == "__mulsf3"; });
+        const auto mul = std::find_if(fs.begin(), fs.end(), [](const json& fn) { return fn["name"] == "__mulsf3"; });
         ASSERT_NE(mul, fs.end()) << scope;
         EXPECT_GT((*mul)["calls"].get<uint64_t>(), 0u);
     }

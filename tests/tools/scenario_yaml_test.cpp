@@ -62,7 +62,7 @@ steps:
     ASSERT_EQ(s.steps.size(), 6U);
     EXPECT_EQ(s.steps[0].line, 5);
     EXPECT_EQ(std::get<Delay>(s.steps[0].action).duration, 1'600'000U);
-    EXPECT_EQ(std::get<WaitSerial>(s.steps[2].action).timeout, s.timeout);  // default: the scenario's
+    EXPECT_EQ(std::get<WaitSerial>(s.steps[2].action).timeout, 0U);  // none: the scenario's timeout ends it
     const auto& v = std::get<ExpectVar>(s.steps[3].action);
     EXPECT_EQ(v.op, CompareOp::kGe);
     EXPECT_EQ(v.type, hil::VarType::kInt32);

@@ -32,7 +32,7 @@ struct WriteSerial {  ///< `write-serial: "1"`: bytes into the firmware's RX, at
 };
 struct WaitSerial {  ///< `wait-serial: "END"`: run until the text is received (after the last match)
     std::string text;
-    Cycles timeout = 0;
+    Cycles timeout = 0;  ///< 0: none of its own (the scenario's timeout ends it: verdict firmware)
 };
 struct ExpectSerial {  ///< `expect-serial: regex`: the text received so far matches (ECMAScript search)
     std::string pattern;
@@ -43,7 +43,7 @@ struct FailSerial {  ///< `fail-serial: regex`: from now on, any received line m
 struct WaitPin {  ///< `wait-pin: {pin: 12, value: 1, timeout: 1s}`
     int pin = 0;
     bool value = false;
-    Cycles timeout = 0;
+    Cycles timeout = 0;  ///< 0: none of its own (as WaitSerial)
 };
 struct ExpectPin {  ///< `expect-pin: {pin: 13, value: 1}`: the digital level now
     int pin = 0;

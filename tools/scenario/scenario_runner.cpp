@@ -67,6 +67,9 @@ struct StepFailed {
 /// scenario that did not pass, as a VCD.
 constexpr double kVcdWindowS = 0.5;
 
+/// A wait without its own timeout: only the scenario's timeout ends it.
+constexpr Cycles kNever = ~Cycles{0};
+
 double us_of(Cycles c) { return hil::cycles_to_s(c, chip::kClockHz) * 1e6; }
 
 /// The data-space PIN/DDR/PORT registers and bit of an Uno pin.
@@ -161,6 +164,11 @@ public:
         std::vector<hil::LineByte> tail;
         adapter_.flush(tail);
         for (const auto& b : tail) receive(b);
+        if (!line_.empty()) check_fail_patterns(line_, core().cycle());  // a last line without \n
+        if (halt_ == Halt::kFailSerial && r.verdict == Verdict::kPass) {
+            r.verdict = Verdict::kFail;
+            r.message = fmt::format("{}: {}", s_.file.string(), halt_message_);
+        }
         r.cycles = core().cycle();
         r.sim_seconds = seconds(r.cycles);
         r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
@@ -227,8 +235,16 @@ private:
     }
 
     // --- timed actions and the boundary poll -----------------------------
+    bool receiver_enabled() { return (core().data(reg::kUcsr0B) & (1U << 4)) != 0; }  // RXEN0
     void on_boundary(Cycles c) {
         vcd_->on_boundary(c);
+        scratch_.clear();
+        adapter_.settle(static_cast<double>(c), scratch_);  // bytes whose stop bit has been sampled
+        for (const auto& lb : scratch_) receive(lb);
+        if (!unsent_.empty() && receiver_enabled()) {
+            rig_->uart().send(as_firmware_receives(unsent_));
+            unsent_.clear();
+        }
         if (boundary_condition_ && boundary_condition_()) core().request_stop();
     }
     void at(Cycles cycle, std::function<void()> action) {
@@ -290,6 +306,10 @@ private:
             origin_cycle_ = core().cycle();
             armed_ = true;
         }
+        if (!receiver_enabled()) {
+            unsent_ += w.text;  // the adapter sends once the firmware listens
+            return "held until the firmware enables its receiver";
+        }
         const std::string bytes = as_firmware_receives(w.text);
         rig_->uart().send(bytes);
         if (bytes != w.text) return fmt::format("the firmware's receiver made {} byte(s) of it", bytes.size());
@@ -298,7 +318,8 @@ private:
     std::string run_step(const WaitSerial& w) {
         const Cycles start = core().cycle();
         wait_text_ = w.text;
-        const bool found = advance(start + w.timeout, [&] { return text_.find(w.text, cursor_) != std::string::npos; });
+        const Cycles end = w.timeout == 0 ? kNever : start + w.timeout;
+        const bool found = advance(end, [&] { return text_.find(w.text, cursor_) != std::string::npos; });
         wait_text_.reset();
         if (!found) {
             const std::string tail = text_.size() > 60 ? "..." + text_.substr(text_.size() - 60) : text_;
@@ -337,7 +358,8 @@ private:
     std::string run_step(const WaitPin& w) {
         const Cycles start = core().cycle();
         boundary_condition_ = [&] { return pin_level(w.pin) == w.value; };
-        const bool ok = advance(start + w.timeout, [&] { return pin_level(w.pin) == w.value; });
+        const Cycles end = w.timeout == 0 ? kNever : start + w.timeout;
+        const bool ok = advance(end, [&] { return pin_level(w.pin) == w.value; });
         boundary_condition_ = nullptr;
         if (!ok) {
             throw StepFailed{Verdict::kFail, fmt::format("expected pin {} to become {} within {:.3f} s; it stayed {}",
@@ -656,6 +678,7 @@ private:
     hil::SerialLine adapter_;
     std::vector<hil::LineByte> scratch_;
     std::string text_, line_;
+    std::string unsent_;  ///< written before the firmware enabled its receiver
     std::size_t cursor_ = 0;
     std::optional<std::string> wait_text_;
     std::vector<std::pair<std::string, std::regex>> fail_patterns_;

@@ -55,7 +55,12 @@ Cycles parse_duration(std::string_view text, uint32_t clock_hz) {
         throw std::invalid_argument(fmt::format(
             "duration '{}': expected a non-negative number with a unit (s, ms, us or cycles), e.g. 500ms", s));
     }
-    const double value = std::stod(m[1].str());
+    double value = 0.0;
+    try {
+        value = std::stod(m[1].str());
+    } catch (const std::out_of_range&) {
+        throw std::invalid_argument(fmt::format("duration '{}': too large", s));
+    }
     const std::string unit = m[2].str();
     const double scale = unit == "s" ? clock_hz : unit == "ms" ? clock_hz / 1e3 : unit == "us" ? clock_hz / 1e6 : 1.0;
     const double cycles = std::round(value * scale);
@@ -482,12 +487,6 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         st.kind = kind;
         st.text = step_text(item);
         st.action = parse_step(kind, Ctx(file, item.begin()->second, kind));
-        if (std::holds_alternative<WaitSerial>(st.action) && std::get<WaitSerial>(st.action).timeout == 0) {
-            std::get<WaitSerial>(st.action).timeout = s.timeout;
-        }
-        if (std::holds_alternative<WaitPin>(st.action) && std::get<WaitPin>(st.action).timeout == 0) {
-            std::get<WaitPin>(st.action).timeout = s.timeout;
-        }
         s.steps.push_back(std::move(st));
     }
     return s;
