@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/csv_table.hpp"
 #include "common/truth_csv.hpp"
 #include "comparison.hpp"
 #include "exit_codes.hpp"
@@ -448,35 +449,29 @@ private:
         }
         if (e.log) {
             const auto log = eeprom_log();
-            std::ifstream in(*e.log);
-            std::string header, line;
-            std::getline(in, header);
-            std::size_t k = 0;
-            double worst = 0.0;
-            while (std::getline(in, line)) {
-                if (line.empty()) continue;
-                std::istringstream ls(line);
-                std::string f0, f1, f2, f3;
-                std::getline(ls, f0, ',');
-                std::getline(ls, f1, ',');
-                std::getline(ls, f2, ',');
-                std::getline(ls, f3, ',');
-                if (k >= log.size()) {
-                    throw StepFailed{Verdict::kFail, fmt::format("the EEPROM log has {} samples, {} has more", log.size(), e.log->string())};
-                }
-                const double d = std::hypot(log[k].x_m - std::stod(f2), log[k].y_m - std::stod(f3));
-                worst = std::max(worst, d);
-                if (d > e.tol_m) {
-                    throw StepFailed{Verdict::kFail, fmt::format("EEPROM log sample {}: ({:.3f}, {:.3f}) is {:.4f} m from "
-                                                                 "({}, {}) in {}, tolerance {} m",
-                                                                 k + 1, log[k].x_m, log[k].y_m, d, f2, f3,
-                                                                 e.log->filename().string(), e.tol_m)};
-                }
-                ++k;
+            Table want;
+            try {
+                want = read_table(*e.log);
+            } catch (const std::exception& ex) {
+                throw StepFailed{Verdict::kFail, ex.what()};
             }
+            const auto& wx = want.col("x_m", *e.log);
+            const auto& wy = want.col("y_m", *e.log);
+            const std::size_t k = want.rows();
             if (k != log.size()) {
                 throw StepFailed{Verdict::kFail, fmt::format("the EEPROM log has {} samples, {} has {}", log.size(),
                                                              e.log->filename().string(), k)};
+            }
+            double worst = 0.0;
+            for (std::size_t i = 0; i < k; ++i) {
+                const double d = std::hypot(log[i].x_m - wx[i], log[i].y_m - wy[i]);
+                worst = std::max(worst, d);
+                if (d > e.tol_m) {
+                    throw StepFailed{Verdict::kFail, fmt::format("EEPROM log sample {}: ({:.3f}, {:.3f}) is {:.4f} m from "
+                                                                 "({:.3f}, {:.3f}) in {}, tolerance {} m",
+                                                                 i + 1, log[i].x_m, log[i].y_m, d, wx[i], wy[i],
+                                                                 e.log->filename().string(), e.tol_m)};
+                }
             }
             note += fmt::format("{}{} samples within {:.4f} m", note.empty() ? "" : "; ", k, worst);
         }
