@@ -108,12 +108,44 @@ AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), 
     avr->frequency = config_.clock_hz;
     avr->log = SimavrLog::kLevelWarning;
 
+    apply_setup();
+}
+
+void AvrCore::apply_setup() {
+    avr_t* avr = avr_.get();
     uint32_t uart_flags = 0;  // no stdio echo, no poll-sleep
     avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &uart_flags);
     avr->sleep = &no_wall_clock_sleep;
     avr_extint_set_strict_lvl_trig(avr, 0, 0);
     avr_extint_set_strict_lvl_trig(avr, 1, 0);
     avr->run_cycle_limit = config_.run_cycle_limit;
+}
+
+void AvrCore::reset() {
+    avr_t* avr = avr_.get();
+    const Cycles now = avr->cycle;
+    avr_reset(avr);
+    avr->cycle = now;  // time goes on (simavr 1.6 keeps it too; this makes it explicit)
+    stop_requested_ = false;
+    apply_setup();
+    ++resets_;
+    for (const auto& l : reset_listeners_) l.hook();
+}
+
+void AvrCore::add_reset_listener(const void* owner, std::function<void()> fn) {
+    for (auto& l : reset_listeners_) {
+        if (l.owner == owner) {
+            l.hook = std::move(fn);
+            return;
+        }
+    }
+    reset_listeners_.push_back({owner, std::move(fn)});
+}
+
+void AvrCore::remove_reset_listener(const void* owner) {
+    reset_listeners_.erase(std::remove_if(reset_listeners_.begin(), reset_listeners_.end(),
+                                          [owner](const InstructionHook& l) { return l.owner == owner; }),
+                           reset_listeners_.end());
 }
 
 AvrCore::~AvrCore() = default;

@@ -95,6 +95,18 @@ public:
     /// use it for short phases that must stop on a PC or register change.
     RunStop run_until(Cycles target, const std::function<bool()>& condition);
 
+    /// AVR reset, as by the RESET pin: simavr's avr_reset (I/O registers
+    /// cleared, PC = 0, SP = RAMEND, SREG and pending interrupts cleared, every
+    /// cycle timer cancelled; SRAM and EEPROM keep their contents), the cycle
+    /// count kept running, this class's set-up re-applied, then every reset
+    /// listener in the order added, so parts re-arm their timers and re-read
+    /// the registers. Call it between run_until calls, not from a callback.
+    void reset();
+    /// `fn` runs after each reset(); one listener per owner.
+    void add_reset_listener(const void* owner, std::function<void()> fn);
+    void remove_reset_listener(const void* owner);
+    uint64_t resets() const { return resets_; }
+
     /// Runs until the firmware has returned from its first call to `function`,
     /// or `target`. Returns kCondition on return.
     ///
@@ -128,6 +140,9 @@ private:
         std::function<void()> hook;
     };
     std::vector<InstructionHook> instruction_hooks_;
+    std::vector<InstructionHook> reset_listeners_;
+    uint64_t resets_ = 0;
+    void apply_setup();
 };
 
 }  // namespace ddmr::hil

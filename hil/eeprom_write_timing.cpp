@@ -32,9 +32,13 @@ EepromWriteTiming::EepromWriteTiming(AvrCore& core, EepromTimingMode mode)
     eecr_irq_ = avr_iomem_getirq(core_.raw(), atmega328p::reg::kEecr, nullptr, AVR_IOMEM_IRQ_ALL);
     if (eecr_irq_ == nullptr) throw std::runtime_error("simavr has no IRQ for EECR");
     avr_irq_register_notify(eecr_irq_, &EepromWriteTiming::on_eecr, this);
+    // A reset clears EECR and cancels the completion timer: the write in
+    // progress (already in simavr's EEPROM) ends there.
+    core_.add_reset_listener(this, [this] { busy_ = false; });
 }
 
 EepromWriteTiming::~EepromWriteTiming() {
+    core_.remove_reset_listener(this);
     avr_irq_unregister_notify(eecr_irq_, &EepromWriteTiming::on_eecr, this);
     avr_cycle_timer_cancel(core_.raw(), &EepromWriteTiming::on_write_done, this);
     if (busy_) release_eepe();

@@ -38,7 +38,30 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
             isr_watch_[ch] = IsrWatch{this, ch};
             avr_irq_register_notify(irqs + AVR_INT_IRQ_RUNNING, &EncoderInjector::on_isr, &isr_watch_[ch]);
         }
+        pin_register_[ch] = static_cast<uint16_t>(loc.port_register - 2);  // PINx = PORTx - 2
+        pin_bit_[ch] = loc.bit;
     }
+    // An AVR reset cancels the edge timer and clears PINx; the sensors still
+    // drive their pins: restore the levels and re-arm for the queued edges.
+    core_.add_reset_listener(this, [this] {
+        for (unsigned ch = 0; ch < 2; ++ch) {
+            uint8_t& pin = core_.raw()->data[pin_register_[ch]];
+            const auto mask = static_cast<uint8_t>(1U << pin_bit_[ch]);
+            pin = pin_irq_[ch]->value != 0 ? static_cast<uint8_t>(pin | mask) : static_cast<uint8_t>(pin & ~mask);
+        }
+        armed_ = false;
+        if (!queue_.empty()) {
+            const Cycles now = core_.cycle();
+            const Cycles at = queue_.front().cycle;
+            armed_ = true;
+            avr_cycle_timer_register(core_.raw(), at > now ? at - now : 0, &EncoderInjector::on_timer, this);
+        }
+    });
+}
+
+EncoderInjector::~EncoderInjector() {
+    core_.remove_reset_listener(this);
+    avr_cycle_timer_cancel(core_.raw(), &EncoderInjector::on_timer, this);
 }
 
 void EncoderInjector::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {

@@ -36,6 +36,7 @@ struct EncoderChannelStats {
 class EncoderInjector {
 public:
     EncoderInjector(AvrCore& core, const BoardWiring& board);
+    ~EncoderInjector();
     EncoderInjector(const EncoderInjector&) = delete;
     EncoderInjector& operator=(const EncoderInjector&) = delete;
 
@@ -75,6 +76,8 @@ private:
 
     AvrCore& core_;
     std::array<avr_irq_t*, 2> pin_irq_{};
+    std::array<uint16_t, 2> pin_register_{};  ///< PINx data-space address
+    std::array<int, 2> pin_bit_{};
     std::array<std::optional<int>, 2> interrupt_{};
     std::array<EncoderChannelStats, 2> stats_{};
     std::array<std::vector<Cycles>, 2> isr_entries_{};

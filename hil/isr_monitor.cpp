@@ -93,9 +93,21 @@ IsrMonitor::IsrMonitor(AvrCore& core, const ElfImage& elf, const IsrMonitorConfi
         last_cycle_ = avr->cycle;
         avr_cycle_timer_register(avr, 1, &IsrMonitor::on_instruction, this);
     }
+    // A reset leaves every ISR without its RETI and cancels the precise-mode
+    // timer: nothing is running any more.
+    core_.add_reset_listener(this, [this] {
+        for (VectorState& v : vectors_) v.depth = 0;
+        nesting_ = 0;
+        if (config_.precise) {
+            last_cycle_ = core_.cycle();
+            i_flag_ = false;
+            avr_cycle_timer_register(core_.raw(), 1, &IsrMonitor::on_instruction, this);
+        }
+    });
 }
 
 IsrMonitor::~IsrMonitor() {
+    core_.remove_reset_listener(this);
     avr_t* avr = core_.raw();
     for (int v = 1; v < atmega328p::kVectorCount; ++v) {
         VectorState& s = vectors_[static_cast<std::size_t>(v)];

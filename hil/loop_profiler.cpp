@@ -34,9 +34,17 @@ LoopProfiler::LoopProfiler(AvrCore& core, const ElfSymbol& mark) : core_(core) {
     end_ = mark.address + mark.size;
     iterations_.reserve(4096);
     core_.add_instruction_hook(this, [this] { on_instruction(); });
+    // An iteration cut by a reset is not an iteration.
+    core_.add_reset_listener(this, [this] {
+        inside_ = false;
+        have_start_ = false;
+    });
 }
 
-LoopProfiler::~LoopProfiler() { core_.remove_instruction_hook(this); }
+LoopProfiler::~LoopProfiler() {
+    core_.remove_instruction_hook(this);
+    core_.remove_reset_listener(this);
+}
 
 void LoopProfiler::on_instruction() {
     const uint32_t pc = core_.pc();  // the next instruction to run

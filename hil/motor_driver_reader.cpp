@@ -80,7 +80,12 @@ MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board) : 
         avr_irq_register_notify(irq, &MotorDriverReader::on_register, this);
     }
     sample_registers();
+    // An AVR reset clears the timer and port registers without a write
+    // notification: read them again (timers stopped, PWM disconnected).
+    core_.add_reset_listener(this, [this] { sample_registers(); });
 }
+
+MotorDriverReader::~MotorDriverReader() { core_.remove_reset_listener(this); }
 
 void MotorDriverReader::on_register(avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {
     static_cast<MotorDriverReader*>(param)->sample_registers();

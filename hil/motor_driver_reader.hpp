@@ -63,6 +63,7 @@ struct BridgeDrive {
 class MotorDriverReader {
 public:
     MotorDriverReader(AvrCore& core, const BoardWiring& board);
+    ~MotorDriverReader();
     MotorDriverReader(const MotorDriverReader&) = delete;
     MotorDriverReader& operator=(const MotorDriverReader&) = delete;
 

@@ -19,14 +19,29 @@ PlantCoupler::PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader
                                     std::to_string(config_.step_cycles));
     }
     start_cycle_ = core_.cycle();
+    next_boundary_ = start_cycle_;
     avr_cycle_timer_register(core_.raw(), 0, &PlantCoupler::on_step, this);
+    // An AVR reset cancels every cycle timer: the plant steps on from the
+    // boundary it was due at (it has already advanced up to there).
+    core_.add_reset_listener(this, [this] {
+        if (status_ != plant::StepStatus::ok) return;
+        const Cycles now = core_.cycle();
+        avr_cycle_timer_register(core_.raw(), next_boundary_ > now ? next_boundary_ - now : 0, &PlantCoupler::on_step,
+                                 this);
+    });
+}
+
+PlantCoupler::~PlantCoupler() {
+    core_.remove_reset_listener(this);
+    avr_cycle_timer_cancel(core_.raw(), &PlantCoupler::on_step, this);
 }
 
 uint64_t PlantCoupler::on_step(struct avr_t* /*avr*/, uint64_t when, void* param) {
     auto* self = static_cast<PlantCoupler*>(param);
     self->step(when);
     if (self->status_ != plant::StepStatus::ok) return 0;
-    return when + self->config_.step_cycles;
+    self->next_boundary_ = when + self->config_.step_cycles;
+    return self->next_boundary_;
 }
 
 void PlantCoupler::step(Cycles boundary) {

@@ -60,6 +60,7 @@ public:
     /// arms the step timer at the current cycle.
     PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader& reader,
                  EncoderInjector& injector, const CouplerConfig& config);
+    ~PlantCoupler();
     PlantCoupler(const PlantCoupler&) = delete;
     PlantCoupler& operator=(const PlantCoupler&) = delete;
 
@@ -111,6 +112,7 @@ private:
     uint64_t steps_ = 0;
     uint64_t plant_steps_ = 0;
     Cycles start_cycle_ = 0;
+    Cycles next_boundary_ = 0;  ///< when the step timer fires next
     Cycles max_latency_ = 0;
 };
 

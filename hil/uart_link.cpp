@@ -66,7 +66,15 @@ UartLink::UartLink(AvrCore& core, UartTiming timing) : core_(core) {
             avr_irq_register_notify(w, &UartLink::on_frame_register, this);
         }
     }
+    // A reset disables the USART: wait for the firmware's next XON (its
+    // Serial.begin) before sending the queue on.
+    core_.add_reset_listener(this, [this] {
+        xon_ = false;
+        xoff_ = false;
+    });
 }
+
+UartLink::~UartLink() { core_.remove_reset_listener(this); }
 
 void UartLink::on_output(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     auto* self = static_cast<UartLink*>(param);

@@ -43,6 +43,7 @@ enum class UartTiming {
 class UartLink {
 public:
     explicit UartLink(AvrCore& core, UartTiming timing = UartTiming::kChip);
+    ~UartLink();
     UartLink(const UartLink&) = delete;
     UartLink& operator=(const UartLink&) = delete;
 

@@ -9,6 +9,7 @@
 
 #include "exit_codes.hpp"
 #include "compare_command.hpp"
+#include "merge_command.hpp"
 #include "plant_command.hpp"
 #include "run_command.hpp"
 #include "scenario_command.hpp"
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
         ddmr::tools::register_sim_command(app),
         ddmr::tools::register_sweep_command(app),
         ddmr::tools::register_scenario_command(app),
+        ddmr::tools::register_merge_command(app),
     };
     try {
         app.parse(argc, argv);

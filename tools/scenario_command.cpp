@@ -22,6 +22,7 @@
 #include "scenario/junit.hpp"
 #include "scenario/scenario_runner.hpp"
 #include "scenario/scenario_yaml.hpp"
+#include "scenario/suite_results.hpp"
 
 extern char** environ;
 
@@ -37,6 +38,7 @@ struct ScenarioCli {
     std::string junit;
     std::string firmware;
     unsigned jobs = 0;
+    std::string shard;
     bool worker = false;
     bool progress = false;
 };
@@ -58,32 +60,22 @@ int run_worker(const ScenarioCli& cli) {
 
 /// The result a worker left in its folder (or why there is none).
 sc::ScenarioResult read_result(const sc::Scenario& s, const fs::path& dir, int status, double wall_s) {
+    if (fs::exists(dir / "result.json")) {
+        sc::ScenarioResult r = sc::read_scenario_result(dir);
+        r.wall_seconds = wall_s;
+        return r;
+    }
     sc::ScenarioResult r;
     r.name = s.name;
     r.file = s.file;
     r.wall_seconds = wall_s;
-    std::ifstream in(dir / "result.json");
-    if (!in) {
-        r.verdict = sc::Verdict::kFirmware;
-        std::string stderr_text;
-        std::ifstream err(dir / "stderr.txt");
-        std::getline(err, stderr_text);
-        r.message = WIFSIGNALED(status)
-                        ? fmt::format("the worker died with signal {} ({})", WTERMSIG(status), stderr_text)
-                        : fmt::format("the worker exited with {} and no result: {}", WEXITSTATUS(status), stderr_text);
-        return r;
-    }
-    const json j = json::parse(in);
-    const std::string v = j.at("verdict").get<std::string>();
-    r.verdict = v == "pass" ? sc::Verdict::kPass : v == "fail" ? sc::Verdict::kFail : sc::Verdict::kFirmware;
-    r.message = j.at("message").get<std::string>();
-    r.cycles = j.at("cycles").get<uint64_t>();
-    r.sim_seconds = j.at("sim_seconds").get<double>();
-    for (const auto& st : j.at("steps")) {
-        r.steps.push_back({st.at("line").get<int>(), st.at("kind").get<std::string>(), st.at("step").get<std::string>(),
-                           st.at("passed").get<bool>(), st.at("cycle").get<uint64_t>(),
-                           st.at("message").get<std::string>()});
-    }
+    r.verdict = sc::Verdict::kFirmware;
+    std::string stderr_text;
+    std::ifstream err(dir / "stderr.txt");
+    std::getline(err, stderr_text);
+    r.message = WIFSIGNALED(status)
+                    ? fmt::format("the worker died with signal {} ({})", WTERMSIG(status), stderr_text)
+                    : fmt::format("the worker exited with {} and no result: {}", WEXITSTATUS(status), stderr_text);
     return r;
 }
 
@@ -107,6 +99,18 @@ int run_suite(const ScenarioCli& cli) {
                                                     f, scenarios.back().name));
         }
         hil::ElfImage::read(scenarios.back().firmware).require_atmega328p();
+    }
+    // --shard I/N keeps every N-th scenario of the suite's order, from the I-th.
+    std::vector<std::string> suite_names;
+    for (const auto& sc_ : scenarios) suite_names.push_back(sc_.name);
+    std::optional<sc::Shard> shard;
+    if (!cli.shard.empty()) {
+        shard = sc::parse_shard(cli.shard);
+        std::vector<sc::Scenario> mine;
+        for (std::size_t k = 0; k < scenarios.size(); ++k) {
+            if (shard->contains(k)) mine.push_back(std::move(scenarios[k]));
+        }
+        scenarios = std::move(mine);
     }
     const fs::path out = cli.out_dir;
     prepare_output_dir(out);
@@ -159,24 +163,15 @@ int run_suite(const ScenarioCli& cli) {
 
     // Verdicts in the order given, and the combined result.
     std::vector<sc::ScenarioResult> all;
-    int exit = kExitOk;
-    json combined = json::array();
-    for (auto& r : results) {
-        all.push_back(*r);
-        const char* tag = r->verdict == sc::Verdict::kPass ? "PASS" : r->verdict == sc::Verdict::kFail ? "FAIL" : "ERROR";
-        std::printf("%-5s %s (%s: %.3f s simulated, %.1f s wall)\n", tag, r->name.c_str(), r->file.string().c_str(),
-                    r->sim_seconds, r->wall_seconds);
-        if (r->verdict != sc::Verdict::kPass) std::printf("      %s\n", r->message.c_str());
-        if (r->verdict == sc::Verdict::kFirmware) exit = kExitFirmware;
-        else if (r->verdict == sc::Verdict::kFail && exit == kExitOk) exit = kExitCheckFailed;
-        combined.push_back({{"name", r->name}, {"file", r->file.string()}, {"verdict", sc::to_string(r->verdict)},
-                            {"message", r->message}, {"sim_seconds", r->sim_seconds}});
+    for (auto& r : results) all.push_back(*r);
+    sc::print_verdicts(all);
+    write_file_atomic(out / "results.json", sc::suite_results_json(all).dump(2) + "\n");
+    if (shard) {
+        write_file_atomic(out / "shard.json",
+                          json{{"shard", shard->text()}, {"suite", suite_names}}.dump(2) + "\n");
     }
-    const auto passed = std::count_if(all.begin(), all.end(), [](const auto& r) { return r.verdict == sc::Verdict::kPass; });
-    std::printf("%zd of %zu scenario(s) passed\n", passed, all.size());
-    write_file_atomic(out / "results.json", json{{"scenarios", combined}, {"passed", passed}, {"total", all.size()}}.dump(2) + "\n");
     if (!cli.junit.empty()) write_file_atomic(cli.junit, sc::junit_xml("ddmr-hil scenarios", all));
-    return exit;
+    return sc::suite_exit_code(all);
 }
 
 }  // namespace
@@ -194,6 +189,10 @@ Subcommand register_scenario_command(CLI::App& app) {
     sub->add_option("--firmware", cli->firmware, "Run every scenario on this ELF instead of the one it names");
     sub->add_option("-j,--jobs", cli->jobs, "Scenarios run at once, each in its own process [default: all cores]")
         ->check(CLI::Range(1U, 256U));
+    sub->add_option("--shard", cli->shard,
+                    "Run only the I-th of N round-robin slices of the scenarios given (I = 1..N), e.g. one CI "
+                    "matrix job each; `ddmr-hil merge` combines the shards' --out folders (docs/scaling.md)")
+        ->option_text("I/N");
     sub->add_flag("--progress", cli->progress, "Print each step as it finishes (worker mode)");
     sub->add_flag("--worker", cli->worker, "Run one scenario in this process (used by the suite runner)")
         ->group("");  // hidden

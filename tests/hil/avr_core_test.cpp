@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "hil/eeprom_port.hpp"
 #include "hil/uart_link.hpp"
 #include "support/reference_run.hpp"
 #include "support/test_paths.hpp"
@@ -45,6 +46,37 @@ TEST(AvrCore, StopAfterStopsAtTheExactCycle) {
     EXPECT_EQ(core.run_until(1'000'000), hil::RunStop::kCondition);
     EXPECT_GE(core.cycle(), start + 5000);
     EXPECT_LT(core.cycle(), start + 5010);
+}
+
+TEST(AvrCore, ResetRestartsTheFirmwareAndKeepsTimeAndEeprom) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    hil::AvrCore core(elf);
+    hil::EepromPort eeprom(core);
+    hil::EepromImage image = hil::EepromPort::erased();
+    image[7] = 0x42;
+    eeprom.preload(image);
+    int calls = 0;
+    core.add_reset_listener(&calls, [&calls] { ++calls; });
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)), hil::RunStop::kCondition);
+    const hil::Cycles before = core.cycle();
+    core.stop_after(1000);  // a cycle timer: a reset cancels it
+    core.reset();
+    EXPECT_EQ(calls, 1);
+    EXPECT_EQ(core.resets(), 1U);
+    EXPECT_EQ(core.pc(), 0U);
+    EXPECT_EQ(core.cycle(), before);  // AVR time runs on
+    EXPECT_EQ(core.stack_pointer(), hil::atmega328p::kRamEnd);
+    EXPECT_EQ(core.data(hil::atmega328p::reg::kUcsr0B) & 0x10, 0);  // RXEN0 off until Serial.begin again
+    EXPECT_EQ(core.run_until(before + 5000), hil::RunStop::kReachedCycle);  // the stop timer is gone
+    EXPECT_EQ(eeprom.read_all()[7], 0x42);
+    // The firmware boots again: setup()'s delay(5000) returns 5 s after the reset.
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), before + hil::s_to_cycles(6.0)),
+              hil::RunStop::kCondition);
+    EXPECT_GT(core.seconds() - hil::cycles_to_s(before), 5.0);
+    EXPECT_LT(core.seconds() - hil::cycles_to_s(before), 5.002);
+    core.remove_reset_listener(&calls);
+    core.reset();
+    EXPECT_EQ(calls, 1);
 }
 
 TEST(AvrCore, Case1PrintsItsBannerThenEndAfterBootingSixSeconds) {

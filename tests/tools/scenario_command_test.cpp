@@ -58,6 +58,37 @@ steps:
     EXPECT_FALSE(std::filesystem::exists(dir / "out/start/failure_window.vcd"));
 }
 
+TEST(ScenarioCommand, ResetRestartsTheFirmwareWithTheRobotAttached) {
+    TempDir dir;
+    const auto f = write(dir, "reset.yaml", R"(name: reset
+timeout: 20s
+steps:
+  - write-serial: "1"
+  - wait-serial: "0.6m"
+  - delay: 2s
+  - expect-var: { name: Count1, type: int32, op: ">", value: 500 }
+  - reset:
+  - delay: 300ms
+  - expect-var: { name: Count1, type: int32, op: "<", value: 100 }   # setup() zeroed it; the wheels coast to a stop
+  - expect-pin: { pin: 12, value: 0 }
+  - write-serial: "1"
+  - wait-serial: "0.6m"
+  - delay: 1s
+  - expect-var: { name: Count1, type: int32, op: ">", value: 100 }
+  - expect-encoders: { max_lost: 0 }
+)");
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json j = result_of(dir / "out/reset");
+    ASSERT_EQ(j["steps"].size(), 13U) << j.dump(1);
+    // The second banner comes 5 s (setup()'s delay) after the reset.
+    const double t_reset = j["steps"][4]["t_s"].get<double>();
+    const double t_banner = j["steps"][9]["t_s"].get<double>();
+    EXPECT_GT(t_banner - t_reset, 5.0);
+    EXPECT_LT(t_banner - t_reset, 5.1);
+    EXPECT_EQ(read_text(dir / "out/reset/uart.txt"), "0.6m\r\n0.6m\r\n");
+}
+
 TEST(ScenarioCommand, AnAdapterAtAnotherBaudRateReadsGarbage) {
     TempDir dir;
     const auto f = write(dir, "baud.yaml", R"(name: baud

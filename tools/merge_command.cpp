@@ -1,0 +1,90 @@
+#include "merge_command.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "common/atomic_file.hpp"
+#include "scenario/junit.hpp"
+#include "scenario/suite_results.hpp"
+
+namespace ddmr::tools {
+namespace {
+namespace fs = std::filesystem;
+namespace sc = scenario;
+using nlohmann::json;
+
+struct MergeCli {
+    std::vector<std::string> shard_dirs;
+    std::string out_dir;
+    std::string junit;
+};
+
+json read_json(const fs::path& p) {
+    std::ifstream in(p);
+    if (!in) throw std::runtime_error(p.string() + ": missing (is this the --out folder of `scenario --shard`?)");
+    try {
+        return json::parse(in);
+    } catch (const json::exception& e) {
+        throw std::runtime_error(p.string() + ": malformed JSON: " + e.what());
+    }
+}
+
+int run_merge(const MergeCli& cli) {
+    // Check that the shards are one suite, each shard once, before writing.
+    std::optional<std::vector<std::string>> suite;
+    std::optional<unsigned> count;
+    std::set<unsigned> seen;
+    std::map<std::string, fs::path> folder_of;  // scenario name -> its shard's folder
+    for (const auto& d : cli.shard_dirs) {
+        const json shard = read_json(fs::path(d) / "shard.json");
+        const sc::Shard s = sc::parse_shard(shard.at("shard").get<std::string>());
+        const auto names = shard.at("suite").get<std::vector<std::string>>();
+        if (!suite) suite = names;
+        if (names != *suite) throw std::invalid_argument(fmt::format("{}: a shard of another suite (its scenarios differ)", d));
+        if (!count) count = s.count;
+        if (s.count != *count) throw std::invalid_argument(fmt::format("{}: shard {} of a {}-way split, not {}", d, s.text(), s.count, *count));
+        if (!seen.insert(s.index).second) throw std::invalid_argument(fmt::format("{}: shard {} given twice", d, s.text()));
+        for (std::size_t k = 0; k < names.size(); ++k) {
+            if (s.contains(k)) folder_of[names[k]] = fs::path(d) / names[k];
+        }
+    }
+    if (!suite) throw std::invalid_argument("give the shards' folders");
+    if (seen.size() != *count) {
+        for (unsigned i = 1; i <= *count; ++i) {
+            if (!seen.count(i)) throw std::invalid_argument(fmt::format("shard {}/{} is missing", i, *count));
+        }
+    }
+    std::vector<sc::ScenarioResult> all;
+    for (const auto& name : *suite) all.push_back(sc::read_scenario_result(folder_of.at(name)));
+    const fs::path out = cli.out_dir;
+    prepare_output_dir(out);
+    for (const auto& name : *suite) {
+        fs::remove_all(out / name);
+        fs::copy(folder_of.at(name), out / name, fs::copy_options::recursive);
+    }
+    write_file_atomic(out / "results.json", sc::suite_results_json(all).dump(2) + "\n");
+    if (!cli.junit.empty()) write_file_atomic(cli.junit, sc::junit_xml("ddmr-hil scenarios", all));
+    sc::print_verdicts(all);
+    return sc::suite_exit_code(all);
+}
+
+}  // namespace
+
+Subcommand register_merge_command(CLI::App& app) {
+    auto cli = std::make_shared<MergeCli>();
+    CLI::App* sub = app.add_subcommand(
+        "merge",
+        "Combine the --out folders of `ddmr-hil scenario --shard I/N` runs (every shard once) into one folder, "
+        "identical to an unsharded run's; same exit codes as `scenario`.");
+    sub->add_option("shards", cli->shard_dirs, "The shards' --out folders")->required()->check(CLI::ExistingDirectory);
+    sub->add_option("--out", cli->out_dir, "The merged folder")->required();
+    sub->add_option("--junit", cli->junit, "Also write JUnit XML here (times are not known after a merge: 0)");
+    return {sub, [cli] { return run_merge(*cli); }};
+}
+
+}  // namespace ddmr::tools
