@@ -132,21 +132,36 @@ void AvrCore::reset() {
     for (const auto& l : reset_listeners_) l.hook();
 }
 
-void AvrCore::add_reset_listener(const void* owner, std::function<void()> fn) {
-    for (auto& l : reset_listeners_) {
-        if (l.owner == owner) {
-            l.hook = std::move(fn);
+namespace {
+
+/// Replaces `owner`'s entry in `list`, or appends one.
+template <typename Entry>
+void set_owned(std::vector<Entry>& list, const void* owner, std::function<void()> fn) {
+    for (auto& e : list) {
+        if (e.owner == owner) {
+            e.hook = std::move(fn);
             return;
         }
     }
-    reset_listeners_.push_back({owner, std::move(fn)});
+    list.push_back({owner, std::move(fn)});
 }
 
-void AvrCore::remove_reset_listener(const void* owner) {
-    reset_listeners_.erase(std::remove_if(reset_listeners_.begin(), reset_listeners_.end(),
-                                          [owner](const InstructionHook& l) { return l.owner == owner; }),
-                           reset_listeners_.end());
+template <typename Entry>
+void erase_owned(std::vector<Entry>& list, const void* owner) {
+    list.erase(std::remove_if(list.begin(), list.end(), [owner](const Entry& e) { return e.owner == owner; }),
+               list.end());
 }
+
+}  // namespace
+
+void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook) {
+    set_owned(instruction_hooks_, owner, std::move(hook));
+}
+void AvrCore::remove_instruction_hook(const void* owner) { erase_owned(instruction_hooks_, owner); }
+void AvrCore::add_reset_listener(const void* owner, std::function<void()> fn) {
+    set_owned(reset_listeners_, owner, std::move(fn));
+}
+void AvrCore::remove_reset_listener(const void* owner) { erase_owned(reset_listeners_, owner); }
 
 AvrCore::~AvrCore() = default;
 
@@ -195,22 +210,6 @@ RunStop AvrCore::run_until(Cycles target) {
     const RunStop stop = state_stop();
     if (stop == RunStop::kReachedCycle && stop_requested_) return RunStop::kCondition;
     return stop;
-}
-
-void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook) {
-    for (auto& h : instruction_hooks_) {
-        if (h.owner == owner) {
-            h.hook = std::move(hook);
-            return;
-        }
-    }
-    instruction_hooks_.push_back({owner, std::move(hook)});
-}
-
-void AvrCore::remove_instruction_hook(const void* owner) {
-    instruction_hooks_.erase(std::remove_if(instruction_hooks_.begin(), instruction_hooks_.end(),
-                                            [owner](const InstructionHook& h) { return h.owner == owner; }),
-                             instruction_hooks_.end());
 }
 
 void AvrCore::stop_after(Cycles delay) {

@@ -135,12 +135,13 @@ private:
     SimavrLog log_;
     std::unique_ptr<avr_t, AvrDeleter> avr_;
     bool stop_requested_ = false;
-    struct InstructionHook {
+    /// A callback and who installed it (instruction hooks, reset listeners).
+    struct OwnedCallback {
         const void* owner;
         std::function<void()> hook;
     };
-    std::vector<InstructionHook> instruction_hooks_;
-    std::vector<InstructionHook> reset_listeners_;
+    std::vector<OwnedCallback> instruction_hooks_;
+    std::vector<OwnedCallback> reset_listeners_;
     uint64_t resets_ = 0;
     void apply_setup();
 };
