@@ -69,6 +69,7 @@ bench: build
 	    --benchmark_out_format=json --ratio_out=$(BUILD)/bench/hil_ratio.json
 	./$(BUILD)/tests/bench/ddmr_sim_bench --benchmark_out=$(BUILD)/bench/sim.json \
 	    --benchmark_out_format=json
+	/usr/bin/python3 tools/bench_table.py $(BUILD)/bench
 
 clean:
 	rm -rf $(BUILD) $(BUILD_ASAN) out

@@ -75,6 +75,11 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
     if (elf_version(EV_CURRENT) == EV_NONE) fail(path, "libelf initialisation failed");
     std::unique_ptr<Elf, ElfDeleter> elf(elf_begin(fd, ELF_C_READ, nullptr));
     if (!elf || elf_kind(elf.get()) != ELF_K_ELF) {
+        char first = 0;
+        if (::pread(fd, &first, 1, 0) == 1 && first == ':') {
+            fail(path, "is an Intel HEX file, not an ELF: the HIL needs the ELF's symbols; give the .elf the build "
+                       "wrote next to it");
+        }
         fail(path, "not an ELF file (wrong magic bytes); give the .elf the build wrote");
     }
     GElf_Ehdr ehdr;

@@ -432,7 +432,7 @@ void GdbServer::write_sreg(uint8_t value) {
     avr_t* avr = core_.raw();
     // simavr keeps SREG split in sreg[] (what instructions use) and rebuilds
     // data[SREG] only when the firmware reads it: set both.
-    for (uint8_t bit = 0; bit < 8; ++bit) avr_sreg_set(avr, bit, static_cast<uint8_t>((value >> bit) & 1U));
+    for (uint8_t bit = 0; bit < 8; ++bit) avr_sreg_set(avr, bit, static_cast<uint8_t>((static_cast<unsigned>(value) >> bit) & 1U));
     avr->data[kSregAddress] = value;
 }
 

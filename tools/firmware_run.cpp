@@ -192,6 +192,25 @@ uint64_t on_periodic_sample(struct avr_t* /*avr*/, uint64_t when, void* param) {
     return when + s->period;
 }
 
+/// Stops the run when the wall clock passes the limit (a cycle timer).
+struct WallClockGuard {
+    hil::AvrCore* core;
+    std::chrono::steady_clock::time_point start;
+    double limit_s;
+    bool tripped;
+    Cycles period;
+};
+
+uint64_t on_wall_check(struct avr_t* /*avr*/, uint64_t when, void* param) {
+    auto* g = static_cast<WallClockGuard*>(param);
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - g->start).count() > g->limit_s) {
+        g->tripped = true;
+        g->core->request_stop();
+        return 0;
+    }
+    return when + g->period;
+}
+
 hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     hil::RigConfig c;
     if (o.plant_file) {
@@ -228,6 +247,7 @@ const char* to_string(RunExit exit) {
         case RunExit::kReportMalformed: return "report_malformed";
         case RunExit::kPlantFailed: return "plant_failed";
         case RunExit::kKilledByDebugger: return "killed_by_debugger";
+        case RunExit::kWallTimeout: return "wall_timeout";
     }
     return "unknown";
 }
@@ -237,6 +257,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (options.test_case != 1 && options.test_case != 2) {
         throw std::invalid_argument(fmt::format("--case {}: the reference sketch knows cases 1 and 2",
                                                 options.test_case));
+    }
+    if (!(options.max_wall_seconds > 0.0) || !std::isfinite(options.max_wall_seconds)) {
+        throw std::invalid_argument(fmt::format("--wall-timeout {}: must be a positive number of seconds",
+                                                options.max_wall_seconds));
     }
     if (!(options.max_sim_seconds > 0.0) || !std::isfinite(options.max_sim_seconds)) {
         throw std::invalid_argument(
@@ -443,9 +467,15 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                      phase, core.seconds(), options.max_sim_seconds, uart.received().size());
     };
 
+    // The wall-clock limit: checked every simulated second by a cycle timer,
+    // so it also ends a boot that never returns from the ready symbol.
+    WallClockGuard wall_guard{&core, wall_start, options.max_wall_seconds, false,
+                              hil::s_to_cycles(kProgressPeriodS, core.clock_hz())};
+    if (!options.gdb_port) avr_cycle_timer_register(core.raw(), wall_guard.period, &on_wall_check, &wall_guard);
     hil::RunStop stop = killed() ? hil::RunStop::kCondition : core.run_until_return_from(ready, limit);
     if (gdb) gdb->release_if_detached();
-    if (stop == hil::RunStop::kCondition && !killed() && rig.coupler().status() == plant::StepStatus::ok) {
+    if (stop == hil::RunStop::kCondition && !killed() && !wall_guard.tripped &&
+        rig.coupler().status() == plant::StepStatus::ok) {
         result.ready_cycle = core.cycle();
         progress("ready");
         if (profiler) profiler->arm();
@@ -468,7 +498,12 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     result.eeprom = rig.eeprom().read_all();
     result.report = parser.report();
     const double sim_s = hil::cycles_to_s(result.cycles_total, core.clock_hz());
-    if (killed()) {
+    avr_cycle_timer_cancel(core.raw(), &on_wall_check, &wall_guard);
+    if (wall_guard.tripped) {
+        result.exit = RunExit::kWallTimeout;
+        result.message = fmt::format("wall-clock timeout after {} s (--wall-timeout) at t = {:.6f} simulated s",
+                                     options.max_wall_seconds, sim_s);
+    } else if (killed()) {
         result.exit = RunExit::kKilledByDebugger;
         result.message = fmt::format("killed by the debugger at cycle {} (t = {:.6f} s)", core.cycle(), sim_s);
     } else if (rig.coupler().status() != plant::StepStatus::ok) {

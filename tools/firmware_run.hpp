@@ -54,6 +54,9 @@ struct FirmwareRunOptions {
     std::filesystem::path firmware;       ///< ELF for the ATmega328P
     int test_case = 1;                    ///< byte '1' or '2' sent to the sketch
     double max_sim_seconds = 60.0;        ///< simulated-time limit [s], > 0
+    /// Wall-clock limit [s], > 0 (not applied while avr-gdb is attached:
+    /// a debugging session may sit at a breakpoint for as long as it likes).
+    double max_wall_seconds = 600.0;
     std::filesystem::path out_dir;        ///< created if missing
     /// The case byte is sent when the firmware first returns from this function
     /// (the reference sketch's setup() ends with delay(5000)).
@@ -91,6 +94,7 @@ enum class RunExit {
     kReportMalformed, ///< the firmware printed something the report parser rejects
     kPlantFailed,     ///< the plant diverged (non-finite state) or overflowed
     kKilledByDebugger,  ///< avr-gdb sent kill (--gdb)
+    kWallTimeout,       ///< the wall-clock limit came first (max_wall_seconds)
 };
 
 const char* to_string(RunExit exit);

@@ -44,6 +44,10 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     sub->add_option("--seconds", cli->options.max_sim_seconds,
                     "Simulated-time limit [s]; the run ends earlier when the report is complete")
         ->capture_default_str();
+    sub->add_option("--wall-timeout", cli->options.max_wall_seconds,
+                    "Wall-clock limit [s]: the run stops there with exit 3 and its artifacts written (not "
+                    "applied while avr-gdb is attached); --seconds limits simulated time")
+        ->capture_default_str();
     sub->add_option("--out", cli->out_dir, "Output folder [default: out/run-case<N>]");
     sub->add_option("--eeprom", cli->eeprom_preload,
                     "Preload the EEPROM from this 1024-byte image (default: erased, all 0xFF)");

@@ -1,6 +1,7 @@
 #include "scenario_command.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -39,6 +40,7 @@ struct ScenarioCli {
     std::string firmware;
     unsigned jobs = 0;
     std::string shard;
+    double wall_timeout_s = 600.0;
     bool worker = false;
     bool progress = false;
 };
@@ -119,6 +121,7 @@ int run_suite(const ScenarioCli& cli) {
     struct Running {
         std::size_t index;
         std::chrono::steady_clock::time_point start;
+        bool killed = false;
     };
     std::map<pid_t, Running> running;
     std::vector<std::optional<sc::ScenarioResult>> results(scenarios.size());
@@ -142,21 +145,39 @@ int run_suite(const ScenarioCli& cli) {
         const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
         if (rc != 0) throw std::runtime_error(fmt::format("cannot start a worker for {}: {}", s.file.string(), std::strerror(rc)));
-        running[pid] = {i, std::chrono::steady_clock::now()};
+        running[pid] = {i, std::chrono::steady_clock::now(), false};
     };
     std::fprintf(stderr, "ddmr-hil scenario: %zu scenario(s), %u worker(s), results in %s\n", scenarios.size(), jobs,
                  out.string().c_str());
     while (next < scenarios.size() || !running.empty()) {
         while (next < scenarios.size() && running.size() < jobs) launch(next++);
         int status = 0;
-        const pid_t pid = waitpid(-1, &status, 0);
+        const pid_t pid = waitpid(-1, &status, WNOHANG);
         if (pid < 0) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+        if (pid == 0) {
+            // Nobody finished: enforce the wall-clock limit, then wait a little.
+            const auto now = std::chrono::steady_clock::now();
+            for (auto& [p, run] : running) {
+                if (!run.killed && std::chrono::duration<double>(now - run.start).count() > cli.wall_timeout_s) {
+                    kill(p, SIGKILL);
+                    run.killed = true;
+                }
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            continue;
+        }
         const auto it = running.find(pid);
         if (it == running.end()) continue;
         const std::size_t i = it->second.index;
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - it->second.start).count();
+        const bool killed = it->second.killed;
         running.erase(it);
         results[i] = read_result(scenarios[i], out / scenarios[i].name, status, wall);
+        if (killed) {
+            results[i]->verdict = sc::Verdict::kFirmware;
+            results[i]->message = fmt::format("{}: wall-clock timeout after {} s (--wall-timeout): the worker was stopped",
+                                              scenarios[i].file.string(), cli.wall_timeout_s);
+        }
         const auto& r = *results[i];
         std::fprintf(stderr, "  done %-28s %s (%.1f s wall)\n", r.name.c_str(), sc::to_string(r.verdict), wall);
     }
@@ -193,6 +214,11 @@ Subcommand register_scenario_command(CLI::App& app) {
                     "Run only the I-th of N round-robin slices of the scenarios given (I = 1..N), e.g. one CI "
                     "matrix job each; `ddmr-hil merge` combines the shards' --out folders (docs/scaling.md)")
         ->option_text("I/N");
+    sub->add_option("--wall-timeout", cli->wall_timeout_s,
+                    "Wall-clock limit per scenario [s]: a worker still running then is stopped and the scenario "
+                    "reported as a timeout (exit 3). Each scenario's own `timeout:` limits simulated time")
+        ->check(CLI::Range(1.0, 1e6))
+        ->capture_default_str();
     sub->add_flag("--progress", cli->progress, "Print each step as it finishes (worker mode)");
     sub->add_flag("--worker", cli->worker, "Run one scenario in this process (used by the suite runner)")
         ->group("");  // hidden

@@ -17,6 +17,11 @@
 //   RunCase1Vcd           : the same with --vcd
 //   ShippedScenarioSuite  : `ddmr-hil scenario tests/scenarios/*.yaml -j 2`,
 //                           wall seconds (issue 7's two-minute goal)
+//   ScenarioThroughput/J  : 16 case-1 scenarios (16 plant variants) with J
+//                           workers: runs per minute; J = 1 and 2 (issue 8)
+//   LongRun/M             : one worker process running case 1 again and again
+//                           for M simulated minutes (M = 1, 10): Mcycles/s
+//                           and the process's peak RSS must not grow with M
 //
 // Each runs boot + case 1 to the end of its report (~19.6 simulated s); the
 // figure is simulated Mcycles per wall second, repeated for a median. The
@@ -31,7 +36,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
 #include <fstream>
 #include <map>
 #include <string>
@@ -40,6 +53,8 @@
 #include "hil/firmware_report.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/uart_link.hpp"
+
+extern char** environ;
 
 namespace {
 
@@ -158,12 +173,94 @@ void BM_ShippedScenarioSuite(benchmark::State& state) {
     }
 }
 
+/// A child process's exit status, wall time and peak resident set.
+struct ChildRun {
+    int status = -1;
+    double wall_s = 0.0;
+    long max_rss_kb = 0;
+};
+
+ChildRun run_child(std::vector<std::string> args) {
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    pid_t pid = 0;
+    ChildRun r;
+    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) {
+        rusage usage{};
+        wait4(pid, &r.status, 0, &usage);
+        r.max_rss_kb = usage.ru_maxrss;
+    }
+    posix_spawn_file_actions_destroy(&actions);
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+}
+
+/// Writes `text` to `path`.
+void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+void BM_ScenarioThroughput(benchmark::State& state) {
+    const auto jobs = state.range(0);
+    ScratchDir dir;
+    std::vector<std::string> args = {DDMR_BENCH_CLI, "scenario"};
+    for (int k = 0; k < 16; ++k) {  // 16 robots: motor 1's resistance from 5.0 to 5.75 ohm
+        const auto f = dir.path / ("r" + std::to_string(k) + ".yaml");
+        write_text(f, "name: r" + std::to_string(k) + "\ntimeout: 40s\nplant: { overrides: { motor1: { resistance_ohm: " +
+                          std::to_string(5.0 + 0.05 * k) + " } } }\nsteps:\n  - write-serial: \"1\"\n" +
+                          "  - wait-serial: \"END\"\n");
+        args.push_back(f.string());
+    }
+    args.insert(args.end(), {"-j", std::to_string(jobs), "--out", (dir.path / "out").string()});
+    double wall = 0.0;
+    for (auto _ : state) {
+        const ChildRun r = run_child(args);
+        if (r.status != 0) state.SkipWithError("a throughput scenario failed");
+        wall += r.wall_s;
+    }
+    state.counters["runs_per_minute"] = 16.0 * 60.0 / wall * static_cast<double>(state.iterations());
+}
+
+void BM_LongRun(benchmark::State& state) {
+    const auto minutes = state.range(0);
+    ScratchDir dir;
+    // Case 1 takes 12.5 s of AVR time from its case byte to the end of its
+    // report (after the first, which waits for setup's 5 s): repeat it.
+    std::string yaml = "name: long\ntimeout: " + std::to_string(minutes * 60 + 60) + "s\nsteps:\n";
+    const int repeats = static_cast<int>(minutes * 60 / 14.5) + 1;
+    for (int k = 0; k < repeats; ++k) yaml += "  - write-serial: \"1\"\n  - wait-serial: \"END\"\n  - delay: 2s\n";
+    const auto f = dir.path / "long.yaml";
+    write_text(f, yaml);
+    Cycles cycles = 0;
+    long rss = 0;
+    for (auto _ : state) {
+        const auto out = dir.path / "out";
+        const ChildRun r = run_child({DDMR_BENCH_CLI, "scenario", "--worker", f.string(), "--out", out.string()});
+        if (r.status != 0) state.SkipWithError("the long run failed");
+        std::ifstream in(out / "result.json");
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const auto at = text.find("\"cycles\": ");
+        cycles += at == std::string::npos ? 0 : std::stoull(text.substr(at + 10));
+        rss = std::max(rss, r.max_rss_kb);
+        state.SetIterationTime(r.wall_s);
+    }
+    state.counters["Mcycles_per_s"] = benchmark::Counter(static_cast<double>(cycles) / 1e6, benchmark::Counter::kIsRate);
+    state.counters["peak_rss_MiB"] = static_cast<double>(rss) / 1024.0;
+    state.counters["sim_minutes"] = static_cast<double>(minutes);
+}
+
 BENCHMARK(BM_BareSimavrDefaultLoop)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_FullHilCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_RunCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_RunCase1Profile)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_RunCase1Vcd)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_ShippedScenarioSuite)->Iterations(1)->Repetitions(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_ScenarioThroughput)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_LongRun)->Arg(1)->Arg(10)->Iterations(1)->Unit(benchmark::kSecond)->UseManualTime();
 
 /// Keeps the median Mcycles/s of each benchmark while printing as usual.
 class MedianCollector : public benchmark::ConsoleReporter {

@@ -353,8 +353,9 @@ private:
                 if (d.pwm_connected && d.timer_running) return d.enable_level_at(core().cycle());
             }
         }
-        const bool output = (core().data(r.ddr) >> r.bit) & 1U;
-        return ((core().data(output ? r.port : r.pin) >> r.bit) & 1U) != 0;
+        const auto bit = static_cast<unsigned>(r.bit);
+        const bool output = ((static_cast<unsigned>(core().data(r.ddr)) >> bit) & 1U) != 0;
+        return ((static_cast<unsigned>(core().data(output ? r.port : r.pin)) >> bit) & 1U) != 0;
     }
     std::string run_step(const WaitPin& w) {
         const Cycles start = core().cycle();

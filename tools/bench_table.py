@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Collects `make bench`'s Google Benchmark results into one table.
+
+Reads BENCH_DIR/{hil,sim,plant}.json (written by ddmr_hil_bench, ddmr_sim_bench
+and ddmr_plant_bench), writes BENCH_DIR/results.json and prints a table: per
+benchmark the median and the spread (min..max over the repetitions) of its
+figure, then the ratios against the goals of issues 4, 6, 7 and 8. The
+machine is shared and noisy: the ratios of figures measured in the same run
+are the ones to trust.
+
+Usage: bench_table.py BENCH_DIR
+"""
+import json
+import statistics
+import sys
+from pathlib import Path
+
+
+def load(path):
+    """{run_name: {"values": [...], "unit": str, "counters": {...}}} from one JSON file."""
+    if not path.exists():
+        return {}
+    data = json.loads(path.read_text())
+    out = {}
+    for b in data.get("benchmarks", []):
+        if b.get("run_type") == "aggregate":
+            continue
+        name = b.get("run_name", b["name"])
+        for key, unit in (("Mcycles_per_s", "Mcycles/s"), ("runs_per_minute", "runs/min")):
+            if key in b:
+                value = b[key]
+                break
+        else:
+            value = b["real_time"]
+            unit = b["time_unit"]
+        entry = out.setdefault(name, {"values": [], "unit": unit, "counters": {}, "times": []})
+        entry["values"].append(value)
+        scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
+        entry["times"].append(b["real_time"] * scale)
+        for k in ("peak_rss_MiB", "sim_minutes"):
+            if k in b:
+                entry["counters"][k] = max(entry["counters"].get(k, 0.0), b[k])
+    return out
+
+
+def main():
+    bench = Path(sys.argv[1] if len(sys.argv) > 1 else "build/bench")
+    runs = {}
+    for f in ("hil.json", "sim.json", "plant.json"):
+        runs.update(load(bench / f))
+    rows = {}
+    for name, e in runs.items():
+        v = e["values"]
+        rows[name] = {"median": statistics.median(v), "min": min(v), "max": max(v), "n": len(v), "unit": e["unit"],
+                      "median_wall_s": statistics.median(e["times"]), **e["counters"]}
+
+    def med(name):
+        return rows[name]["median"] if name in rows else None
+
+    short = lambda n: n.replace("/iterations:1", "").replace("/repeats:3", "").replace("/real_time", "").replace("/manual_time", "")
+    print(f"{'benchmark':<46} {'median':>12} {'min..max':>21} {'unit':<10} n")
+    for name in sorted(rows):
+        r = rows[name]
+        extra = f"  peak RSS {r['peak_rss_MiB']:.1f} MiB" if "peak_rss_MiB" in r else ""
+        print(f"{short(name):<46} {r['median']:>12.2f} {r['min']:>10.2f}..{r['max']:<10.2f} {r['unit']:<10} {r['n']}{extra}")
+
+    def find(prefix):
+        for n in rows:
+            if n.startswith(prefix):
+                return n
+        return None
+
+    bare, hil = med(find("BM_BareSimavrDefaultLoop")), med(find("BM_FullHilCase1"))
+    run, prof, vcd = med(find("BM_RunCase1/")), med(find("BM_RunCase1Profile")), med(find("BM_RunCase1Vcd"))
+    j1, j2 = med(find("BM_ScenarioThroughput/1")), med(find("BM_ScenarioThroughput/2"))
+    long1, long10 = find("BM_LongRun/1/"), find("BM_LongRun/10/")
+    suite = med(find("BM_ShippedScenarioSuite"))
+    sim_ideal, sim_fw = med(find("BM_SimCase1Ideal/")) or med("BM_SimCase1Ideal"), med("BM_SimCase1Firmware")
+    goals = []
+
+    def goal(what, value, target, ok):
+        goals.append({"goal": what, "value": value, "target": target, "met": bool(ok)})
+
+    if bare and hil:
+        goal("full HIL / bare simavr default loop", hil / bare, ">= 1.3", hil / bare >= 1.3)
+    if run and hil:
+        goal("run with profiling, VCD and gdb off / bare rig (their cost when off)", run / hil, "~1 (nothing measurable)", run / hil >= 0.9)
+    if prof and bare:
+        goal("profiling on / bare simavr", prof / bare, ">= 0.3", prof / bare >= 0.3)
+        goal("profiling on, real-time factor", prof / 16.0, "several x real time", prof / 16.0 >= 2.0)
+    if vcd and run:
+        goal("--vcd / run", vcd / run, "~1", vcd / run >= 0.8)
+    if run:
+        wall = rows[find("BM_RunCase1/")]["median_wall_s"]  # boot to the end of the report, artifacts written
+        goal("case 1 boot to END (ddmr-hil run), wall seconds", wall, "< 3 s", wall < 3.0)
+    if sim_ideal is not None:
+        goal("host simulation of 12 s (ideal), ms", sim_ideal, "< 50 ms", sim_ideal < 50.0)
+    if sim_fw is not None:
+        goal("host simulation of 12 s (firmware model), ms", sim_fw, "< 50 ms", sim_fw < 50.0)
+    if j1 and j2:
+        goal("16 case-1 runs: 2 workers / 1 worker", j2 / j1, ">= 1.8", j2 / j1 >= 1.8)
+    if suite is not None:
+        goal("shipped scenario suite, wall seconds", suite, "< 120 s", suite < 120.0)
+    if long1 and long10:
+        a, b = rows[long1], rows[long10]
+        goal("10-min / 1-min simulated run: Mcycles/s", b["median"] / a["median"], "~1 (linear cost)", b["median"] / a["median"] >= 0.9)
+        goal("10-min / 1-min simulated run: peak RSS", b.get("peak_rss_MiB", 0) / max(a.get("peak_rss_MiB", 1), 1e-9),
+             "~1 (flat memory)", b.get("peak_rss_MiB", 0) <= 1.1 * a.get("peak_rss_MiB", 0))
+    print()
+    for g in goals:
+        print(f"{'met ' if g['met'] else 'MISS'} {g['goal']:<66} {g['value']:>9.3f}  (goal {g['target']})")
+    (bench / "results.json").write_text(json.dumps({"benchmarks": rows, "goals": goals}, indent=2) + "\n")
+    print(f"\nwrote {bench / 'results.json'}")
+
+
+if __name__ == "__main__":
+    main()
