@@ -71,6 +71,7 @@ inline constexpr uint16_t kPortC = 0x28;
 inline constexpr uint16_t kPinD = 0x29;
 inline constexpr uint16_t kPortD = 0x2B;
 inline constexpr uint16_t kEifr = 0x3C;   ///< INTF0 = bit 0, INTF1 = bit 1
+inline constexpr uint16_t kMcusr = 0x54;  ///< reset flags
 inline constexpr uint16_t kEecr = 0x3F;
 inline constexpr uint16_t kEedr = 0x40;
 inline constexpr uint16_t kEearL = 0x41;
@@ -95,6 +96,9 @@ inline constexpr uint16_t kUcsr0C = 0xC2;
 inline constexpr uint16_t kUbrr0L = 0xC4;
 inline constexpr uint16_t kUbrr0H = 0xC5;
 }  // namespace reg
+
+/// MCUSR bit: the last reset was the watchdog's.
+inline constexpr uint8_t kWdrf = 1U << 3;
 
 /// Compare-output mode bits COMnx1 in TCCRnA (non-inverting PWM when set).
 namespace com_bit {

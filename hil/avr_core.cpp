@@ -55,6 +55,8 @@ const char* to_string(RunStop stop) {
         case RunStop::kCondition: return "condition";
         case RunStop::kCrashed: return "crashed";
         case RunStop::kDone: return "sleeping_with_interrupts_off";
+        case RunStop::kWatchdogReset: return "watchdog_reset";
+        case RunStop::kSimavrError: return "simavr_error";
     }
     return "unknown";
 }
@@ -109,6 +111,27 @@ AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), 
     avr->log = SimavrLog::kLevelWarning;
 
     apply_setup();
+    normal_run_ = avr->run;
+}
+
+bool AvrCore::event_pending() const {
+    return avr_->run != normal_run_ || log_.hard_errors() != hard_errors_seen_;
+}
+
+RunStop AvrCore::take_event() {
+    if (avr_->run != normal_run_) {
+        // simavr's watchdog replaced the run callback by one that resets: do
+        // the reset here, with the parts re-armed, and flag it as the chip does.
+        avr_->run = normal_run_;
+        reset();
+        avr_->data[atmega328p::reg::kMcusr] |= atmega328p::kWdrf;
+        ++watchdog_resets_;
+        return RunStop::kWatchdogReset;
+    }
+    hard_errors_seen_ = log_.hard_errors();
+    // A crash is logged as an error too: report it as the crash it is.
+    if (avr_->state == cpu_Crashed) return RunStop::kCrashed;
+    return RunStop::kSimavrError;
 }
 
 void AvrCore::apply_setup() {
@@ -197,16 +220,17 @@ RunStop AvrCore::run_until(Cycles target) {
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
             for (const auto& h : instruction_hooks_) h.hook();
-            if (state == cpu_Crashed || state == cpu_Done) break;
+            if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
         }
         avr->run_cycle_limit = saved_limit;
     } else {
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
-            if (state == cpu_Crashed || state == cpu_Done) break;
+            if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
         }
     }
     avr_cycle_timer_cancel(avr, &on_target, &flag);
+    if (event_pending()) return take_event();
     const RunStop stop = state_stop();
     if (stop == RunStop::kReachedCycle && stop_requested_) return RunStop::kCondition;
     return stop;
@@ -227,6 +251,10 @@ RunStop AvrCore::run_until(Cycles target, const std::function<bool()>& condition
         if (state == cpu_Crashed || state == cpu_Done) {
             stop = state_stop();
             break;
+        }
+        if (event_pending()) {
+            avr->run_cycle_limit = saved_limit;
+            return take_event();
         }
         if (condition()) {
             stop = RunStop::kCondition;

@@ -40,6 +40,11 @@ enum class RunStop {
     kCondition,     ///< the caller's condition became true, or a stop was requested
     kCrashed,       ///< simavr reported cpu_Crashed (PC past flash, bad data access)
     kDone,          ///< the firmware slept with interrupts off: it can never wake
+    /// The watchdog expired with WDE set: the AVR has been reset (reset(),
+    /// MCUSR.WDRF set, as the chip does) and the run stops there.
+    kWatchdogReset,
+    /// simavr logged an error (an invalid opcode, ...): log().first_error().
+    kSimavrError,
 };
 
 const char* to_string(RunStop stop);
@@ -106,6 +111,7 @@ public:
     void add_reset_listener(const void* owner, std::function<void()> fn);
     void remove_reset_listener(const void* owner);
     uint64_t resets() const { return resets_; }
+    uint64_t watchdog_resets() const { return watchdog_resets_; }
 
     /// Runs until the firmware has returned from its first call to `function`,
     /// or `target`. Returns kCondition on return.
@@ -143,6 +149,14 @@ private:
     std::vector<OwnedCallback> instruction_hooks_;
     std::vector<OwnedCallback> reset_listeners_;
     uint64_t resets_ = 0;
+    uint64_t watchdog_resets_ = 0;
+    uint64_t hard_errors_seen_ = 0;
+    /// simavr's instruction loop; its watchdog swaps in a reset callback.
+    void (*normal_run_)(avr_t*) = nullptr;
+    /// True if a watchdog reset is pending or simavr logged a new error.
+    bool event_pending() const;
+    /// Handles what event_pending() saw: kWatchdogReset or kSimavrError.
+    RunStop take_event();
     void apply_setup();
 };
 

@@ -36,6 +36,23 @@ void route(avr_t* avr, const int level, const char* format, va_list ap) {
 }  // namespace
 
 void SimavrLog::record(int level, std::string message) {
+    // simavr colours some messages (ESC [ ... m) and ends them with spaces.
+    std::string clean;
+    for (std::size_t i = 0; i < message.size(); ++i) {
+        if (message[i] == '\x1b' && i + 1 < message.size() && message[i + 1] == '[') {
+            const auto end = message.find('m', i + 2);
+            if (end != std::string::npos) {
+                i = end;
+                continue;
+            }
+        }
+        clean.push_back(message[i]);
+    }
+    while (!clean.empty() && (clean.back() == ' ' || clean.back() == '\n' || clean.back() == '\r')) clean.pop_back();
+    message = std::move(clean);
+    if (level == kLevelError) {
+        if (hard_errors_++ == 0) first_error_ = message;
+    }
     if (level <= kLevelError) {
         ++errors_;
     } else if (level == kLevelWarning) {

@@ -25,6 +25,10 @@ public:
     void set_echo(std::FILE* stream) { echo_ = stream; }
 
     uint64_t errors() const { return errors_; }
+    /// Messages at simavr's error level (invalid opcodes, bad accesses...).
+    uint64_t hard_errors() const { return hard_errors_; }
+    /// The first of them, if any.
+    const std::string& first_error() const { return first_error_; }
     uint64_t warnings() const { return warnings_; }
     /// The first kKeepFirst distinct messages, in order.
     const std::vector<std::string>& first_messages() const { return first_; }
@@ -35,6 +39,8 @@ private:
     std::FILE* echo_ = nullptr;
     uint64_t errors_ = 0;
     uint64_t warnings_ = 0;
+    uint64_t hard_errors_ = 0;
+    std::string first_error_;
     std::vector<std::string> first_;
     std::map<std::string, uint64_t> counts_;
 };

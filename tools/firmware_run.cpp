@@ -24,6 +24,7 @@
 #include "hil/loop_tracer.hpp"
 #include "hil/torn_read_detector.hpp"
 #include "hil/robot_rig.hpp"
+#include "hil/stack_guard.hpp"
 #include "hil/vcd_recorder.hpp"
 
 #include <sim_avr.h>
@@ -248,6 +249,9 @@ const char* to_string(RunExit exit) {
         case RunExit::kPlantFailed: return "plant_failed";
         case RunExit::kKilledByDebugger: return "killed_by_debugger";
         case RunExit::kWallTimeout: return "wall_timeout";
+        case RunExit::kWatchdogReset: return "watchdog_reset";
+        case RunExit::kSimavrError: return "simavr_error";
+        case RunExit::kStackOverflow: return "stack_overflow";
     }
     return "unknown";
 }
@@ -307,6 +311,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     // reference sketch) is refused here, before anything is written.
     hil::LoopTracer tracer(rig.variables(), kLoopMarker, traced_variables());
     hil::IsrMonitor isr_monitor(core, elf);
+    const hil::StackGuard stack_guard(core, elf);
     // Torn reads of Count1/Count2 (the reference sketch's ISR-written globals);
     // another firmware without them is simply not watched.
     std::optional<hil::TornReadDetector> torn_reads;
@@ -506,6 +511,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     } else if (killed()) {
         result.exit = RunExit::kKilledByDebugger;
         result.message = fmt::format("killed by the debugger at cycle {} (t = {:.6f} s)", core.cycle(), sim_s);
+    } else if (stack_guard.overflow()) {
+        const hil::StackOverflow& o = *stack_guard.overflow();
+        result.exit = RunExit::kStackOverflow;
+        result.message = fmt::format("stack overflow into .bss at cycle {} (SP 0x{:04x} below the end of .bss 0x{:04x})",
+                                     o.cycle, o.sp, o.bss_end);
     } else if (rig.coupler().status() != plant::StepStatus::ok) {
         result.exit = RunExit::kPlantFailed;
         const plant::Pose& p = rig.robot().pose();
@@ -532,6 +542,15 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                 result.message = fmt::format(
                     "firmware went to sleep with interrupts off at PC 0x{:04x}, cycle {}", core.pc(),
                     core.cycle());
+                break;
+            case hil::RunStop::kWatchdogReset:
+                result.exit = RunExit::kWatchdogReset;
+                result.message = fmt::format("watchdog reset at cycle {} (t = {:.6f} s)", core.cycle(), sim_s);
+                break;
+            case hil::RunStop::kSimavrError:
+                result.exit = RunExit::kSimavrError;
+                result.message = fmt::format("simavr error at PC 0x{:04x}, cycle {}: {}", core.pc(), core.cycle(),
+                                             core.log().first_error());
                 break;
             case hil::RunStop::kReachedCycle:
                 result.exit = RunExit::kTimeout;

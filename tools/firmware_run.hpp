@@ -95,6 +95,9 @@ enum class RunExit {
     kPlantFailed,     ///< the plant diverged (non-finite state) or overflowed
     kKilledByDebugger,  ///< avr-gdb sent kill (--gdb)
     kWallTimeout,       ///< the wall-clock limit came first (max_wall_seconds)
+    kWatchdogReset,     ///< the watchdog reset the AVR
+    kSimavrError,       ///< simavr reported an error (an invalid opcode, ...)
+    kStackOverflow,     ///< the stack grew into .data/.bss (hil/stack_guard.hpp)
 };
 
 const char* to_string(RunExit exit);

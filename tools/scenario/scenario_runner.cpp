@@ -24,6 +24,7 @@
 #include "hil/loop_profiler.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/serial_line.hpp"
+#include "hil/stack_guard.hpp"
 #include "hil/torn_read_detector.hpp"
 #include "hil/vcd_recorder.hpp"
 #include "hil/vcd_writer.hpp"
@@ -110,6 +111,7 @@ public:
         rig_.emplace(elf_, config);
         if (preload_) rig_->eeprom().preload(*preload_);
         isr_.emplace(rig_->core(), elf_);
+        stack_guard_.emplace(rig_->core(), elf_);
         if (elf_.find("Count1") && elf_.find("Count2")) torn_.emplace(rig_->core(), elf_);
         if (s.needs_loop_profile()) {
             const auto mark = elf_.require("delay");
@@ -275,6 +277,19 @@ private:
             }
             if (stop == hil::RunStop::kCrashed) {
                 throw StepFailed{Verdict::kFirmware, fmt::format("crashed at PC 0x{:04x}, cycle {}", core().pc(), core().cycle())};
+            }
+            if (stack_guard_->overflow()) {
+                const hil::StackOverflow& o = *stack_guard_->overflow();
+                throw StepFailed{Verdict::kFirmware,
+                                 fmt::format("stack overflow into .bss at cycle {} (SP 0x{:04x} below the end of .bss "
+                                             "0x{:04x})", o.cycle, o.sp, o.bss_end)};
+            }
+            if (stop == hil::RunStop::kWatchdogReset) {
+                throw StepFailed{Verdict::kFirmware, fmt::format("watchdog reset at cycle {}", core().cycle())};
+            }
+            if (stop == hil::RunStop::kSimavrError) {
+                throw StepFailed{Verdict::kFirmware, fmt::format("simavr error at PC 0x{:04x}, cycle {}: {}", core().pc(),
+                                                                 core().cycle(), core().log().first_error())};
             }
             if (stop == hil::RunStop::kDone) {
                 throw StepFailed{Verdict::kFirmware,
@@ -666,6 +681,7 @@ private:
     std::optional<hil::EepromImage> preload_;
     std::optional<hil::RobotRig> rig_;
     std::optional<hil::IsrMonitor> isr_;
+    std::optional<hil::StackGuard> stack_guard_;
     std::optional<hil::TornReadDetector> torn_;
     std::optional<hil::LoopProfiler> profiler_;
     std::string vcd_text_;

@@ -1,0 +1,74 @@
+// Firmwares that misbehave (tests/reliability/firmwares/): each run ends with
+// its own reason on stdout/result.json, exit code 3, and what the firmware
+// printed before is kept in uart.txt (issue 9).
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <string>
+
+#include "support/process.hpp"
+#include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Misbehaviour {
+    const char* firmware;
+    const char* reason;   ///< fragment of the one-line reason
+    const char* printed;  ///< what uart.txt must start with
+};
+
+void PrintTo(const Misbehaviour& m, std::ostream* os) { *os << m.firmware; }
+
+class MisbehavingFirmware : public ::testing::TestWithParam<Misbehaviour> {};
+
+TEST_P(MisbehavingFirmware, EndsWithItsReasonAndKeepsWhatItPrinted) {
+    const Misbehaviour& m = GetParam();
+    TempDir dir;
+    const fs::path scenario = dir / "listen.yaml";
+    std::ofstream(scenario) << "name: listen\ntimeout: 2s\nsteps:\n  - wait-serial: \"never printed\"\n";
+    const fs::path elf = fs::path(DDMR_MISBEHAVING_DIR) / (std::string(m.firmware) + ".elf");
+    const auto r = run_command(sh_quote(cli_path().string()) + " scenario " + sh_quote(scenario.string()) +
+                               " --firmware " + sh_quote(elf.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+    EXPECT_NE(r.out.find(m.reason), std::string::npos) << r.out;
+    const auto result = nlohmann::json::parse(read_text(dir / "out/listen/result.json"));
+    EXPECT_EQ(result["verdict"], "firmware");
+    EXPECT_NE(result["message"].get<std::string>().find(m.reason), std::string::npos) << result["message"];
+    const std::string uart = read_text(dir / "out/listen/uart.txt");
+    EXPECT_EQ(uart.substr(0, std::string(m.printed).size()), m.printed);
+    EXPECT_TRUE(fs::exists(dir / "out/listen/failure_window.vcd"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Reliability, MisbehavingFirmware,
+    ::testing::Values(Misbehaviour{"crash_jump", "crashed at PC 0x", "jumping\r\n"},
+                      Misbehaviour{"invalid_opcode", "Invalid Opcode", "invalid\r\n"},
+                      Misbehaviour{"sleep_forever", "slept with interrupts off", "sleeping\r\n"},
+                      Misbehaviour{"never_prints", "timeout after 2 simulated s", ""},
+                      Misbehaviour{"watchdog", "watchdog reset at cycle", "booted\r\n"},
+                      Misbehaviour{"stack_overflow", "stack overflow into .bss at cycle", "recursing\r\n"},
+                      Misbehaviour{"uart_flood", "timeout after 2 simulated s", "FLOOD FLOOD"}),
+    [](const ::testing::TestParamInfo<Misbehaviour>& param_info) { return std::string(param_info.param.firmware); });
+
+TEST(MisbehavingFirmware, AFloodedUartIsReceivedInFull) {
+    // The chip's 9600 baud is 16 MHz / (8 x 208) = 9615 baud: a 10-bit frame
+    // every 16,640 cycles, so 2 s hold at most 1923 frames back to back.
+    TempDir dir;
+    const fs::path scenario = dir / "listen.yaml";
+    std::ofstream(scenario) << "name: listen\ntimeout: 3s\nsteps:\n  - delay: 2s\n";
+    const auto r = run_command(sh_quote(cli_path().string()) + " scenario " + sh_quote(scenario.string()) +
+                               " --firmware " + sh_quote((fs::path(DDMR_MISBEHAVING_DIR) / "uart_flood.elf").string()) +
+                               " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    const std::string uart = read_text(dir / "out/listen/uart.txt");
+    EXPECT_GE(uart.size(), 1920U);
+    EXPECT_LE(uart.size(), 1923U);
+}
+
+}  // namespace
+}  // namespace ddmr::test
