@@ -3,19 +3,23 @@
 
 BUILD      ?= build
 BUILD_ASAN ?= build-asan
+BUILD_FUZZ ?= build-fuzz
+FUZZ_SECONDS ?= 600
+FUZZ_TARGETS = plant_yaml scenario_yaml eeprom_log report_parser elf_loader
 BUILD_TYPE ?= RelWithDebInfo
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CASE       ?= 1
 OUT        ?= out/run-case$(CASE)
 
-.PHONY: all deps configure build build-asan run test test-asan bench clean help
+.PHONY: all deps configure build build-asan run test test-asan bench fuzz clean help
 
 all: build
 
 help:
 	@echo "make run     install deps, build, run case $(CASE) (the thesis's 0.6 m circle) in the HIL -> $(OUT)/"
 	@echo "make test    install deps, build, run every test (ctest)"
-	@echo "make bench   install deps, build, run the benchmarks"
+	@echo "make bench   install deps, build, run the benchmarks (build/bench/results.json)"
+	@echo "make fuzz    libFuzzer (clang) on each fuzz target for FUZZ_SECONDS (default 600) s"
 	@echo "make deps    install the Debian packages the project needs (apt-get, as root)"
 	@echo "make clean   remove $(BUILD)/, $(BUILD_ASAN)/ and out/"
 
@@ -71,5 +75,19 @@ bench: build
 	    --benchmark_out_format=json
 	/usr/bin/python3 tools/bench_table.py $(BUILD)/bench
 
+# libFuzzer (clang) on each target for FUZZ_SECONDS, starting from the
+# committed corpus (tests/fuzz/corpus/<target>); new inputs go to
+# $(BUILD_FUZZ)/corpus/<target>. `make test` replays the committed corpus.
+fuzz: deps
+	command -v clang++ >/dev/null 2>&1 || DEBIAN_FRONTEND=noninteractive apt-get install -y -q clang
+	cmake -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DCMAKE_C_COMPILER=clang \
+	    -DCMAKE_CXX_COMPILER=clang++ -DDDMR_FUZZ=ON -DDDMR_BUILD_BENCH=OFF
+	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target $(addprefix ddmr_fuzz_,$(FUZZ_TARGETS))
+	set -e; for t in $(FUZZ_TARGETS); do \
+	    mkdir -p $(BUILD_FUZZ)/corpus/$$t; \
+	    ./$(BUILD_FUZZ)/tests/fuzz/ddmr_fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	        $(BUILD_FUZZ)/corpus/$$t tests/fuzz/corpus/$$t; \
+	done
+
 clean:
-	rm -rf $(BUILD) $(BUILD_ASAN) out
+	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ) out

@@ -31,7 +31,7 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
             throw std::runtime_error("simavr has no IRQ for pin " + std::to_string(pin));
         }
         interrupt_[ch] = uno_external_interrupt(pin);
-        isr_entries_[ch].reserve(16384);
+        isr_entries_[ch].reserve(kRecordedIsrEntries);
         if (interrupt_[ch]) {
             avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(vector_of(*interrupt_[ch])));
             if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for INT" + std::to_string(*interrupt_[ch]));
@@ -68,7 +68,8 @@ void EncoderInjector::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     if (value == 0) return;  // 0: RETI; 1: the vector is entered
     const auto* watch = static_cast<const IsrWatch*>(param);
     EncoderInjector* self = watch->self;
-    self->isr_entries_[watch->channel].push_back(self->core_.cycle());
+    auto& entries = self->isr_entries_[watch->channel];
+    if (entries.size() < kRecordedIsrEntries) entries.push_back(self->core_.cycle());  // memory stays flat
     ++self->stats_[watch->channel].isr_count;
 }
 

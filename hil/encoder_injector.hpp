@@ -53,8 +53,10 @@ public:
     }
 
     const EncoderChannelStats& stats(unsigned channel) const { return stats_[channel]; }
-    /// Cycle of every ISR entry of the channel's interrupt, in order (for
-    /// tests and ISR timing).
+    /// Cycle of each ISR entry of the channel's interrupt, in order (for
+    /// tests): the first kRecordedIsrEntries only, so long runs keep their
+    /// memory flat (isr_count counts them all).
+    static constexpr std::size_t kRecordedIsrEntries = 16384;
     const std::vector<Cycles>& isr_entries(unsigned channel) const { return isr_entries_[channel]; }
     /// The external interrupt (0 = INT0, 1 = INT1) on the channel's pin, if any.
     std::optional<int> interrupt_of(unsigned channel) const { return interrupt_[channel]; }

@@ -1,0 +1,30 @@
+// Fuzz target: the firmware front end on arbitrary bytes: ElfImage (libelf
+// checks) and, for what it accepts, simavr's own ELF loader (AvrCore). It
+// must refuse with an exception naming the file, never crash.
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "hil/avr_core.hpp"
+#include "hil/elf_image.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    static const std::string path = "/tmp/ddmr-fuzz-elf-" + std::to_string(::getpid()) + ".elf";
+    {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    }
+    try {
+        const auto elf = ddmr::hil::ElfImage::read(path);
+        elf.require_atmega328p();
+        ddmr::hil::AvrCore core(elf);
+        core.run_until(1000);
+    } catch (const std::exception&) {
+    }
+    return 0;
+}
