@@ -14,6 +14,9 @@ find_program(AVR_SIZE avr-size REQUIRED)
 find_program(AVR_OBJCOPY avr-objcopy REQUIRED)
 set(DDMR_ARDUINO_HARDWARE_DIRS /usr/share/arduino-builder /usr/share/arduino/hardware)
 set(DDMR_ARDUINO_TOOLS_DIR /usr/share/arduino-builder)
+set(DDMR_ARDUINO_FQBN arduino:avr:uno)
+# The one preference that differs from the IDE (see above).
+set(DDMR_ARDUINO_EXTRA_PREFS "compiler.cpp.extra_flags=-DDECIMAL_DIG=__DECIMAL_DIG__")
 foreach(dir IN LISTS DDMR_ARDUINO_HARDWARE_DIRS)
     if(NOT IS_DIRECTORY "${dir}")
         message(FATAL_ERROR "Arduino hardware folder ${dir} is missing: run `make deps` "
@@ -24,7 +27,7 @@ endforeach()
 function(add_arduino_sketch target)
     cmake_parse_arguments(ARG "" "SKETCH;OUTPUT;FQBN" "" ${ARGN})
     if(NOT ARG_FQBN)
-        set(ARG_FQBN arduino:avr:uno)
+        set(ARG_FQBN ${DDMR_ARDUINO_FQBN})
     endif()
     get_filename_component(sketch_name "${ARG_SKETCH}" NAME_WE)
     get_filename_component(out_dir "${ARG_OUTPUT}" DIRECTORY)
@@ -43,7 +46,7 @@ function(add_arduino_sketch target)
                 -tools "${DDMR_ARDUINO_TOOLS_DIR}"
                 -fqbn ${ARG_FQBN}
                 -build-path "${work_dir}"
-                "-prefs=compiler.cpp.extra_flags=-DDECIMAL_DIG=__DECIMAL_DIG__"
+                "-prefs=${DDMR_ARDUINO_EXTRA_PREFS}"
                 "${ARG_SKETCH}"
         COMMAND ${CMAKE_COMMAND} -E copy "${work_dir}/${sketch_name}.ino.elf" "${ARG_OUTPUT}"
         COMMAND ${CMAKE_COMMAND} -E copy "${work_dir}/${sketch_name}.ino.hex" "${hex}"

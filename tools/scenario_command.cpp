@@ -23,6 +23,7 @@
 #include "scenario/junit.hpp"
 #include "scenario/scenario_runner.hpp"
 #include "scenario/scenario_yaml.hpp"
+#include "scenario/sketch_build.hpp"
 #include "scenario/suite_results.hpp"
 
 extern char** environ;
@@ -45,6 +46,9 @@ struct ScenarioCli {
     bool progress = false;
 };
 
+/// Loads a scenario and builds the sketch it names (cached) if it names one.
+sc::Scenario load(const std::string& file, const ScenarioCli& cli);
+
 sc::LoadOptions load_options(const ScenarioCli& cli) {
     sc::LoadOptions o;
     o.reference_firmware = DDMR_DEFAULT_FIRMWARE;
@@ -52,10 +56,16 @@ sc::LoadOptions load_options(const ScenarioCli& cli) {
     return o;
 }
 
+sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
+    sc::Scenario s = sc::load_scenario(file, load_options(cli));
+    if (s.sketch) s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache());
+    return s;
+}
+
 /// One scenario in this process (the worker a suite run spawns).
 int run_worker(const ScenarioCli& cli) {
     if (cli.files.size() != 1) throw std::invalid_argument("--worker takes exactly one scenario file");
-    const sc::Scenario s = sc::load_scenario(cli.files[0], load_options(cli));
+    const sc::Scenario s = load(cli.files[0], cli);
     const sc::ScenarioResult r = sc::run_scenario(s, cli.out_dir, cli.progress);
     return sc::exit_code(r.verdict);
 }
@@ -95,7 +105,7 @@ int run_suite(const ScenarioCli& cli) {
     std::vector<sc::Scenario> scenarios;
     std::set<std::string> names;
     for (const auto& f : cli.files) {
-        scenarios.push_back(sc::load_scenario(f, load_options(cli)));
+        scenarios.push_back(load(f, cli));
         if (!names.insert(scenarios.back().name).second) {
             throw std::invalid_argument(fmt::format("{}: scenario name '{}' is used twice (its output folder would be shared)",
                                                     f, scenarios.back().name));

@@ -231,7 +231,7 @@ void BM_LongRun(benchmark::State& state) {
     // Case 1 takes 12.5 s of AVR time from its case byte to the end of its
     // report (after the first, which waits for setup's 5 s): repeat it.
     std::string yaml = "name: long\ntimeout: " + std::to_string(minutes * 60 + 60) + "s\nsteps:\n";
-    const int repeats = static_cast<int>(minutes * 60 / 14.5) + 1;
+    const int repeats = static_cast<int>(static_cast<double>(minutes * 60) / 14.5) + 1;
     for (int k = 0; k < repeats; ++k) yaml += "  - write-serial: \"1\"\n  - wait-serial: \"END\"\n  - delay: 2s\n";
     const auto f = dir.path / "long.yaml";
     write_text(f, yaml);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "hil/elf_image.hpp"
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
@@ -87,6 +88,40 @@ steps:
     EXPECT_GT(t_banner - t_reset, 5.0);
     EXPECT_LT(t_banner - t_reset, 5.1);
     EXPECT_EQ(read_text(dir / "out/reset/uart.txt"), "0.6m\r\n0.6m\r\n");
+}
+
+TEST(ScenarioCommand, ASketchIsBuiltOnceAndRun) {
+    TempDir dir;
+    std::filesystem::create_directories(dir / "suite/copy");
+    std::filesystem::copy_file(source_dir() / "firmware/ddmr_tracking/ddmr_tracking.ino", dir / "suite/copy/copy.ino");
+    const auto f = write(dir, "suite/sketch.yaml", R"(name: sketch
+timeout: 8s
+firmware: { sketch: copy/copy.ino }
+steps:
+  - write-serial: "1"
+  - wait-serial: "0.6m"
+)");
+    const std::string env = "XDG_CACHE_HOME=" + sh_quote((dir / "cache").string()) + " ";
+    const auto first = run_command(env + sh_quote(cli_path().string()) + " scenario " + sh_quote(f.string()) +
+                                   " --out " + sh_quote((dir / "out1").string()));
+    EXPECT_EQ(first.exit_code, 0) << first.out << first.err;
+    const json j = result_of(dir / "out1/sketch");
+    EXPECT_NE(j["firmware"].get<std::string>().find((dir / "cache/ddmr-hil/sketches").string()), std::string::npos);
+    // Built as the reference is (same tool, board, flags): the same program.
+    const auto built = hil::ElfImage::read(j["firmware"].get<std::string>());
+    const auto reference = hil::ElfImage::read(firmware_elf());
+    EXPECT_EQ(built.memory_use().flash_bytes(), reference.memory_use().flash_bytes());
+    EXPECT_EQ(built.memory_use().ram_bytes(), reference.memory_use().ram_bytes());
+    // Broken sketch: refused before anything runs, with the build log named.
+    std::filesystem::create_directories(dir / "suite/broken");
+    std::ofstream(dir / "suite/broken/broken.ino") << "void setup() { this is not C++ }\nvoid loop() {}\n";
+    const auto b = write(dir, "suite/broken.yaml", "timeout: 1s\nfirmware: { sketch: broken/broken.ino }\nsteps:\n  - delay: 1ms\n");
+    const auto bad = run_command(env + sh_quote(cli_path().string()) + " scenario " + sh_quote(b.string()) + " --out " +
+                                 sh_quote((dir / "out2").string()));
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("arduino-builder failed"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("failed-broken.log"), std::string::npos) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out2"));
 }
 
 TEST(ScenarioCommand, AnAdapterAtAnotherBaudRateReadsGarbage) {

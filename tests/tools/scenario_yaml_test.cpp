@@ -113,6 +113,9 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
          "resistance_ohm"},
         {"timeout: 1s\nserial: { baud: 0 }\nsteps:\n  - delay: 1ms\n", "key 'serial.baud'"},
         {"timeout: [1s\n", "malformed YAML"},
+        {"timeout: 1s\nfirmware: { elf: a.elf, sketch: b/b.ino }\nsteps:\n  - delay: 1ms\n", "give one of elf"},
+        {"timeout: 1s\nfirmware: { sketch: ../x/x.ino }\nsteps:\n  - delay: 1ms\n", "leaves the scenario's folder"},
+        {"timeout: 1s\nfirmware: { hex: a.hex }\nsteps:\n  - delay: 1ms\n", "key 'firmware.hex': unknown key"},
     };
     for (const Case& c : cases) {
         const std::string msg = refusal(c.text);

@@ -147,7 +147,9 @@ struct Scenario {
     std::filesystem::path file;
     std::string name;                    ///< default: the file's stem
     std::string description;
-    std::filesystem::path firmware;      ///< ELF
+    std::filesystem::path firmware;      ///< ELF (empty until the sketch is built, if one is named)
+    /// `firmware: {sketch: x/x.ino}`: built by sketch_build.hpp before the run.
+    std::optional<std::filesystem::path> sketch;
     plant::RobotParams plant = plant::default_robot_params();  ///< file + overrides + seed
     std::optional<std::filesystem::path> plant_file;
     plant::DriveMode pwm = plant::DriveMode::switched;

@@ -418,6 +418,21 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     // Firmware: the command line's, else the file's, else the reference.
     if (options.firmware_override) {
         s.firmware = *options.firmware_override;
+    } else if (root["firmware"] && root["firmware"].IsMap()) {
+        const Ctx c(file, root["firmware"], "firmware");
+        c.keys({"elf", "sketch"});
+        if (c.has("elf") == c.has("sketch")) c.fail("give one of elf (a built ELF) or sketch (a .ino to build)");
+        if (c.has("elf")) {
+            s.firmware = existing_file(c.child("elf"));
+        } else {
+            const fs::path ino = existing_file(c.child("sketch"));
+            if (ino.extension() != ".ino") c.child("sketch").fail(fmt::format("'{}' is not a .ino sketch", ino.string()));
+            if (ino.parent_path().filename() != ino.stem()) {
+                c.child("sketch").fail(fmt::format("Arduino needs the sketch in a folder of its name ({0}/{0}.ino)",
+                                                   ino.stem().string()));
+            }
+            s.sketch = ino;
+        }
     } else if (root["firmware"] && Ctx(file, root["firmware"], "firmware").str() != "reference") {
         s.firmware = existing_file(Ctx(file, root["firmware"], "firmware"));
     } else {
