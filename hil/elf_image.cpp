@@ -139,7 +139,12 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
                     fail(path, "corrupt symbol table entry");
                 }
                 const char* sn = elf_strptr(elf.get(), shdr.sh_link, sym.st_name);
-                if (sn == nullptr || *sn == '\0') continue;
+                // simavr's own loader reads every symbol's name without a
+                // check (a NULL name crashes it: found by tests/fuzz): refuse.
+                if (sn == nullptr) {
+                    fail(path, "corrupt symbol table: symbol " + std::to_string(i) + " has no name in its string table");
+                }
+                if (*sn == '\0') continue;
                 const int type = GELF_ST_TYPE(sym.st_info);
                 ElfSymbol s;
                 s.name = sn;
