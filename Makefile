@@ -11,7 +11,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CASE       ?= 1
 OUT        ?= out/run-case$(CASE)
 
-.PHONY: all deps configure build build-asan run test test-asan bench fuzz clean help
+.PHONY: all deps configure build build-asan run test test-asan bench fuzz lint clean help
 
 all: build
 
@@ -19,6 +19,7 @@ help:
 	@echo "make run     install deps, build, run case $(CASE) (the thesis's 0.6 m circle) in the HIL -> $(OUT)/"
 	@echo "make test    install deps, build, run every test (ctest)"
 	@echo "make bench   install deps, build, run the benchmarks (build/bench/results.json)"
+	@echo "make lint    cppcheck (must be clean) and clang-tidy (.clang-tidy) on the project's code"
 	@echo "make fuzz    libFuzzer (clang) on each fuzz target for FUZZ_SECONDS (default 600) s"
 	@echo "make deps    install the Debian packages the project needs (apt-get, as root)"
 	@echo "make clean   remove $(BUILD)/, $(BUILD_ASAN)/ and out/"
@@ -74,6 +75,19 @@ bench: build
 	./$(BUILD)/tests/bench/ddmr_sim_bench --benchmark_out=$(BUILD)/bench/sim.json \
 	    --benchmark_out_format=json
 	/usr/bin/python3 tools/bench_table.py $(BUILD)/bench
+
+# Static checks of the project's own code (plant/, hil/, tools/): cppcheck
+# (warning, performance, portability; inline suppressions give their reason)
+# must be clean; clang-tidy runs the checks in .clang-tidy over
+# compile_commands.json and lists what it finds.
+LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp tools/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
+lint: deps
+	command -v cppcheck >/dev/null 2>&1 && command -v clang-tidy >/dev/null 2>&1 || \
+	    DEBIAN_FRONTEND=noninteractive apt-get install -y -q cppcheck clang-tidy
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DCMAKE_EXPORT_COMPILE_COMMANDS=ON
+	cppcheck --enable=warning,performance,portability --std=c++17 --language=c++ --inline-suppr \
+	    --suppress=missingIncludeSystem --error-exitcode=1 --quiet -I . -I tools plant hil tools
+	printf '%s\n' $(LINT_SOURCES) | xargs -P $(JOBS) -n 8 clang-tidy -p $(BUILD) --quiet 2>/dev/null
 
 # libFuzzer (clang) on each target for FUZZ_SECONDS, starting from the
 # committed corpus (tests/fuzz/corpus/<target>); new inputs go to

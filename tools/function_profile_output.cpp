@@ -88,7 +88,10 @@ std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const Func
         const auto& info = p.map().function(ids[i]);
         const auto& f = s.functions[ids[i]];
         std::string name = demangle(info.name);
-        if (name.size() > kNameWidth) name = name.substr(0, kNameWidth - 3) + "...";
+        if (name.size() > kNameWidth) {
+            name.resize(kNameWidth - 3);
+            name += "...";
+        }
         out += fmt::format("{:>4}  {:<{}} {:>#8x} {:>8} {:>12} {:>6.2f}% {:>12} {:>6.2f}% {:>12.1f}\n", i + 1, name,
                            kNameWidth, info.address, f.calls, f.self_cycles, 100.0 * share(f.self_cycles, s.cycles),
                            f.inclusive_cycles, 100.0 * share(f.inclusive_cycles, s.cycles),
