@@ -10,6 +10,8 @@
 #include <sim_irq.h>
 
 #include <cstdlib>
+#include <cstring>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -85,6 +87,23 @@ void AvrCore::AvrDeleter::operator()(avr_t* avr) const {
     std::free(avr);
 }
 
+void AvrCore::widen_data_space(avr_t* avr) {
+    // simavr 1.6 allocates ramend + 1 bytes of data space, but a push or pop
+    // through a wild stack pointer (SP up to 0xFFFF: a firmware that crashed)
+    // indexes avr->data[SP] without a bound check (_avr_push_addr ->
+    // avr_core_watch_write), i.e. up to 62 KiB past simavr's heap block:
+    // silent heap corruption in a normal build, SIGSEGV under ASan (found by
+    // tests/fuzz/elf_loader_fuzz.cpp). Give it the whole 16-bit space; the
+    // bytes past RAMEND are never read as RAM by a sane firmware, and the
+    // run is reported as crashed (stack_guard.hpp, simavr's own checks).
+    constexpr std::size_t kDataSpace = 0x10000;
+    auto* data = static_cast<uint8_t*>(std::calloc(kDataSpace, 1));
+    if (data == nullptr) throw std::bad_alloc();
+    std::memcpy(data, avr->data, static_cast<std::size_t>(avr->ramend) + 1);
+    std::free(avr->data);  // avr_terminate frees the new block the same way
+    avr->data = data;
+}
+
 AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), config_(config) {
     if (config_.clock_hz == 0) throw std::invalid_argument("AvrCore: clock_hz must be > 0");
     if (config_.run_cycle_limit == 0) {
@@ -98,6 +117,7 @@ AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), 
     avr_t* avr = avr_.get();
     avr->custom.data = &log_;  // routes this instance's log (see simavr_log.cpp)
     if (avr_init(avr) != 0) throw std::runtime_error("simavr could not initialise the ATmega328P");
+    widen_data_space(avr);
 
     FirmwareBuffers buffers;
     const std::string path = elf_.path().string();

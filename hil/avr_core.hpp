@@ -135,6 +135,8 @@ private:
         void operator()(avr_t* avr) const;
     };
     RunStop state_stop() const;
+    /// Replaces simavr's RAM block by one covering all 64 KiB of data space.
+    static void widen_data_space(avr_t* avr);
 
     ElfImage elf_;
     AvrCoreConfig config_;

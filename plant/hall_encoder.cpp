@@ -5,7 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "plant/root_find.hpp"
 
 namespace ddmr::plant {
 
@@ -66,31 +65,20 @@ std::int64_t HallEncoder::index_of(double angle_rad) const {
 
 void HallEncoder::process(const MotorStepper& motor, const MotorSegment& seg, double step_start_s,
                           double step_end_s, EdgeBuffer& out) {
-    if (!std::isfinite(seg.end.angle_rad)) return;  // the robot reports the divergence
-    const std::int64_t target = index_of(seg.end.angle_rad);
-    if (target == index_) return;
-    const int dir = target > index_ ? 1 : -1;  // w keeps its sign within a segment
-    while (index_ != target) {
-        // Boundary between index k-1 and k lies at angle (k - phase) spacing.
-        const std::int64_t boundary = dir > 0 ? index_ + 1 : index_;
-        const double angle = (static_cast<double>(boundary) - p_.initial_phase) * spacing_rad_;
-        index_ += dir;
-        auto f = [&](double tau) {
-            const DcMotorState s = motor.state_at(seg, tau);
-            return std::pair<double, double>{s.angle_rad - angle, s.speed_rad_s};
-        };
-        const double tau = find_root(f, 0.0, seg.duration_s, dir > 0 ? -1.0 : 1.0);
-        double t = step_start_s + seg.t0_s + tau;
-        if (p_.missed_edge_probability > 0.0 && missed_(rng_)) continue;
-        if (p_.jitter_stddev_s > 0.0) {
-            t += jitter_(rng_);
-            t = std::clamp(t, std::max(step_start_s, last_edge_s_), step_end_s);
-        }
-        last_edge_s_ = t;
-        level_ = !level_;
-        ++count_;
-        out.push(EncoderEdge{channel_, t, level_});
+    process([&](double tau) { return motor.state_at(seg, tau); }, seg.t0_s, seg.duration_s,
+            seg.end.angle_rad, step_start_s, step_end_s, out);
+}
+
+void HallEncoder::emit(double t, double step_start_s, double step_end_s, EdgeBuffer& out) {
+    if (p_.missed_edge_probability > 0.0 && missed_(rng_)) return;
+    if (p_.jitter_stddev_s > 0.0) {
+        t += jitter_(rng_);
+        t = std::clamp(t, std::max(step_start_s, last_edge_s_), step_end_s);
     }
+    last_edge_s_ = t;
+    level_ = !level_;
+    ++count_;
+    out.push(EncoderEdge{channel_, t, level_});
 }
 
 }  // namespace ddmr::plant

@@ -23,11 +23,14 @@
 
 #include <array>
 #include <cstdint>
+#include <cmath>
 #include <random>
+#include <utility>
 
 #include "plant/encoder_edge.hpp"
 #include "plant/motor_stepper.hpp"
 #include "plant/param_spec.hpp"
+#include "plant/root_find.hpp"
 
 namespace ddmr::plant {
 
@@ -56,6 +59,14 @@ class HallEncoder {
     void process(const MotorStepper& motor, const MotorSegment& seg, double step_start_s,
                  double step_end_s, EdgeBuffer& out);
 
+    /// The same for any exact solution: `state_at(tau)` is the motor's state
+    /// `tau` seconds into a stretch that starts `seg_t0_s` after the step
+    /// start, lasts `seg_duration_s`, ends at `end_angle_rad`, and in which
+    /// the speed keeps its sign.
+    template <class StateAt>
+    void process(const StateAt& state_at, double seg_t0_s, double seg_duration_s,
+                 double end_angle_rad, double step_start_s, double step_end_s, EdgeBuffer& out);
+
     /// Changes the missed-edge probability from now on, [0, 0.5] (throws
     /// std::invalid_argument); the generator keeps its state.
     void set_missed_edge_probability(double p);
@@ -67,6 +78,8 @@ class HallEncoder {
 
   private:
     [[nodiscard]] std::int64_t index_of(double angle_rad) const;
+    /// Reports (or, when missed, drops) the edge found at plant time t_s.
+    void emit(double t_s, double step_start_s, double step_end_s, EdgeBuffer& out);
 
     HallEncoderParams p_;
     unsigned channel_;
@@ -79,5 +92,27 @@ class HallEncoder {
     std::normal_distribution<double> jitter_;
     std::bernoulli_distribution missed_;
 };
+
+template <class StateAt>
+void HallEncoder::process(const StateAt& state_at, double seg_t0_s, double seg_duration_s,
+                          double end_angle_rad, double step_start_s, double step_end_s,
+                          EdgeBuffer& out) {
+    if (!std::isfinite(end_angle_rad)) return;  // the robot reports the divergence
+    const std::int64_t target = index_of(end_angle_rad);
+    if (target == index_) return;
+    const int dir = target > index_ ? 1 : -1;  // w keeps its sign within a stretch
+    while (index_ != target) {
+        // Boundary between index k-1 and k lies at angle (k - phase) spacing.
+        const std::int64_t boundary = dir > 0 ? index_ + 1 : index_;
+        const double angle = (static_cast<double>(boundary) - p_.initial_phase) * spacing_rad_;
+        index_ += dir;
+        auto f = [&](double tau) {
+            const DcMotorState s = state_at(tau);
+            return std::pair<double, double>{s.angle_rad - angle, s.speed_rad_s};
+        };
+        const double tau = find_root(f, 0.0, seg_duration_s, dir > 0 ? -1.0 : 1.0);
+        emit(step_start_s + seg_t0_s + tau, step_start_s, step_end_s, out);
+    }
+}
 
 }  // namespace ddmr::plant

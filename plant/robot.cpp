@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -17,6 +18,12 @@ bool finite(const RobotState& s) {
              std::isfinite(m.angle_rad);
     }
     return ok;
+}
+/// A motor whose shaft is held: stiction without bound, so it stays in the
+/// stuck regime (w = 0, L dI/dt = V - R I) whatever the current.
+DcMotorParams held_shaft(DcMotorParams p) {
+    p.coulomb_friction_N_m = std::numeric_limits<double>::infinity();
+    return p;
 }
 }  // namespace
 
@@ -38,7 +45,9 @@ RobotParams Robot::validated(const RobotParams& p) {
 Robot::Robot(const RobotParams& params)
     : params_(validated(params)),
       stepper_{MotorStepper(params_.motor[0]), MotorStepper(params_.motor[1])},
-      encoder_{HallEncoder(params_.encoder[0], 0), HallEncoder(params_.encoder[1], 1)} {
+      held_{MotorStepper(held_shaft(params_.motor[0])), MotorStepper(held_shaft(params_.motor[1]))},
+      encoder_{HallEncoder(params_.encoder[0], 0), HallEncoder(params_.encoder[1], 1)},
+      coupled_(params_.motor[0], params_.motor[1]) {
     reset();
 }
 
@@ -123,10 +132,12 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
             const MotorTerminal u = terminal(params_.driver, input_.mode, input_.bridge[m],
                                              source_V - rb * other_supply_A[m], rb);
             DcMotorState x = before.motor[m];
-            stepper_[m].advance(x, u, h, scratch_[m]);
-            if (faults_.shaft_locked[m]) {  // held shaft: no motion, no back-EMF next step
+            if (faults_.shaft_locked[m]) {
+                // Held shaft: it stops at once and stays stuck (unbounded stiction).
                 x.speed_rad_s = 0.0;
-                x.angle_rad = before.motor[m].angle_rad;
+                held_[m].advance(x, u, h, scratch_[m]);
+            } else {
+                stepper_[m].advance(x, u, h, scratch_[m]);
             }
             supply_charge_C += scratch_[m].supply_charge_C;
             mean_supply_A[m] = scratch_[m].supply_charge_C / h;
@@ -146,7 +157,6 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
         source_V = mid_source_V;
         other_supply_A = mid_other_A;
     }
-    std::array<double, kMotorCount> wheel_turn_rad{};
     for (std::size_t m = 0; m < kMotorCount; ++m) {
         if (!std::isfinite(state_.motor[m].angle_rad)) continue;  // caught below
         if (faults_.shaft_locked[m]) continue;                      // no rotation, no edges
@@ -154,17 +164,62 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
         for (std::size_t k = 0; k < r.segment_count; ++k) {
             encoder_[m].process(stepper_[m], r.segments[k], before.t_s, before.t_s + h, edges);
         }
+    }
+    return finish_substep(before, h);
+}
+
+bool Robot::finish_substep(const RobotState& before, double h) {
+    std::array<double, kMotorCount> wheel_turn_rad{};
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
         wheel_turn_rad[m] =
             faults_.traction[m] * (state_.motor[m].angle_rad - before.motor[m].angle_rad) /
             params_.motor[m].gear_ratio;
     }
     advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1]);
-    state_.t_s += h;
+    state_.t_s = before.t_s + h;
     if (!finite(state_)) {
         diverged_at_s_ = before.t_s;
         state_ = before;
         status_ = StepStatus::diverged;
         return false;
+    }
+    return true;
+}
+
+double Robot::joint_substep(double h, EdgeBuffer& edges) {
+    if (faults_.shaft_locked[0] || faults_.shaft_locked[1]) return 0.0;
+    const BatteryParams& bp = params_.battery;
+    const double source_V = faults_.source_V ? *faults_.source_V : source_voltage_V(bp, state_.battery);
+    std::array<CoupledTerminal, kMotorCount> u{};
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        const MotorTerminal t = terminal(params_.driver, input_.mode, input_.bridge[m], source_V);
+        u[m] = coupled_terminal(t, state_.motor[m].current_A);
+    }
+    std::array<DcMotorState, kMotorCount> x = state_.motor;
+    double supply_charge_C = 0.0;
+    const double done = coupled_.advance(x, u, bp.internal_resistance_ohm, h, joint_, supply_charge_C);
+    if (!(done > 0.0)) return 0.0;
+    const RobotState before = state_;
+    state_.motor = x;
+    state_.battery.charge_drawn_C += supply_charge_C;  // eq. (18)
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        if (!std::isfinite(x[m].angle_rad)) continue;  // caught below
+        encoder_[m].process([&](double tau) { return coupled_.state_at(joint_, m, tau); }, 0.0, done,
+                            x[m].angle_rad, before.t_s, before.t_s + done, edges);
+    }
+    return finish_substep(before, done) ? done : -1.0;
+}
+
+bool Robot::battery_coupled() const {
+    if (params_.battery.internal_resistance_ohm == 0.0) return false;
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        const BridgeInput& b = input_.bridge[m];
+        // Averaged at duty 0: shorted by the bridge. Switched, off, no
+        // current: open circuit for the whole step. Either way no supply current.
+        const bool no_supply = input_.mode == DriveMode::averaged
+                                   ? b.duty == 0.0
+                                   : !b.enable && state_.motor[m].current_A == 0.0;
+        if (no_supply) return false;
     }
     return true;
 }
@@ -183,8 +238,35 @@ StepResult Robot::step(double dt_s, EdgeBuffer& edges) {
     const double n = dt_s <= max_h ? 1.0 : std::ceil(dt_s / max_h);
     const double h = dt_s / n;
     const auto count = static_cast<long>(n);
+    const double event_h = params_.stepper.event_step_s;
     for (long k = 0; k < count; ++k) {
-        if (!substep(h, edges)) return {StepStatus::diverged, state_.t_s};
+        if (input_.mode == DriveMode::averaged) {
+            // Averaged: the supply currents are continuous, so holding the
+            // coupling at its midpoint value is second order and the motor
+            // by motor solution is as good as the joint one (halving test:
+            // 1e-10 m); it also avoids a new eigendecomposition per duty.
+            if (!substep(h, edges)) return {StepStatus::diverged, state_.t_s};
+            continue;
+        }
+        double left = h;
+        while (left > 0.0) {
+            // Both motors exactly, up to the step's end or the first regime change.
+            const double done = joint_substep(left, edges);
+            if (done < 0.0) return {StepStatus::diverged, state_.t_s};
+            if (done > 0.0) {
+                left = done < left ? left - done : 0.0;
+                continue;
+            }
+            // A motor is stuck or open-circuit: motor by motor for the rest of
+            // the step, in pieces short enough for the held battery coupling
+            // (one piece when one motor draws no current: then it is exact).
+            const double pieces = battery_coupled() && left > event_h ? std::ceil(left / event_h) : 1.0;
+            const double hp = left / pieces;
+            for (long j = 0; j < static_cast<long>(pieces); ++j) {
+                if (!substep(hp, edges)) return {StepStatus::diverged, state_.t_s};
+            }
+            left = 0.0;
+        }
     }
     state_.t_s = t_end;
     // Merge the two channels' edges of this step by time (insertion sort: a

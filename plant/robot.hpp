@@ -11,17 +11,33 @@
 //
 // Index 0 = motor 1 = RIGHT wheel = encoder on pin 2; index 1 = motor 2 = LEFT.
 //
-// step(dt) holds the input constant over dt, splits it into equal internal
-// steps of at most params.stepper.max_step_s, and within each internal step
-// holds the battery voltage (evaluated at its start, eq. 19) and solves the
-// motors exactly. It never allocates and never throws: problems come back as
-// a StepStatus; a non-finite state stops the run (status diverged, sticky).
+// step(dt) holds the input constant over dt and splits it into equal internal
+// steps of at most params.stepper.max_step_s. It never allocates and never
+// throws: problems come back as a StepStatus; a non-finite state stops the
+// run (status diverged, sticky). The battery's internal resistance R_b
+// couples the motors (eq. 19); how each internal step is solved:
+//   switched : both motors together, exactly (coupled_motors.hpp), while both
+//              shafts turn; a regime change (a speed reaching zero, a diode
+//              current reaching zero: discontinuous conduction) ends that
+//              solution at its exact time. While a motor is stuck or
+//              open-circuit, motor by motor (motor_stepper.hpp, exact for
+//              each), over pieces of at most params.stepper.event_step_s with
+//              the other motor's battery current held at its mean over the
+//              piece (predictor-corrector; exact when one motor draws nothing).
+//   averaged : motor by motor with the held coupling over the whole step:
+//              the supply currents are continuous there, so this is second
+//              order and as accurate (docs/plant.md), without one
+//              eigendecomposition per duty value.
+// The source voltage V_0 - k AH is held at its start-of-step value in the
+// joint solution (it moves by ~1e-8 V per step) and at its midpoint value
+// in the motor-by-motor one.
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
 #include "plant/battery.hpp"
+#include "plant/coupled_motors.hpp"
 #include "plant/dc_motor.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/encoder_edge.hpp"
@@ -115,10 +131,21 @@ class Robot {
     static RobotParams validated(const RobotParams& p);
     [[nodiscard]] bool input_valid() const;
     [[nodiscard]] double supply_current_A(std::size_t m) const;
+    /// Both motors in one exact joint solution over up to h: returns the time
+    /// advanced (h, or up to a regime change), 0 when refused (a motor stuck
+    /// or open-circuit), -1 when the state diverged.
+    double joint_substep(double h, EdgeBuffer& edges);
+    /// Motor by motor, each exact, with the battery coupling held over h.
     bool substep(double h, EdgeBuffer& edges);
+    /// Whether one motor draws no battery current for the whole step (then
+    /// holding its current in the other motor's solution is exact).
+    [[nodiscard]] bool battery_coupled() const;
+    /// Pose, time and the finiteness check at the end of an internal step.
+    bool finish_substep(const RobotState& before, double h);
 
     RobotParams params_;
     std::array<MotorStepper, kMotorCount> stepper_;
+    std::array<MotorStepper, kMotorCount> held_;  ///< the same motors with the shaft held (faults)
     std::array<HallEncoder, kMotorCount> encoder_;
     RobotInput input_{};
     RobotState state_{};
@@ -126,6 +153,8 @@ class Robot {
     StepStatus status_ = StepStatus::ok;
     double diverged_at_s_ = 0.0;
     std::array<MotorStepResult, kMotorCount> scratch_{};
+    CoupledMotorStepper coupled_;
+    CoupledSegment joint_{};
 };
 
 }  // namespace ddmr::plant

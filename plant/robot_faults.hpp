@@ -7,9 +7,9 @@
 //                     0 and its angle does not move, so its encoder reports
 //                     no edges; the armature current follows
 //                     L dI/dt = V - R I (no back-EMF), reaching the stall
-//                     current V / R_a. Applied after each internal step: the
-//                     motor stepper's own speed over one step (<= max_step_s)
-//                     is discarded.
+//                     current V / R_a. Modelled as stiction without bound:
+//                     the shaft stops when the lock is applied and stays in
+//                     the motor stepper's stuck regime, solved exactly.
 //   source_V          the battery is replaced by an ideal source of this
 //                     open-circuit voltage [V] (its internal resistance is
 //                     kept; the charge is still counted but no longer lowers

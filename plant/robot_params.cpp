@@ -4,10 +4,11 @@
 
 namespace ddmr::plant {
 
-const std::array<Field<StepperConfig>, 1>& stepper_fields() {
+const std::array<Field<StepperConfig>, 2>& stepper_fields() {
     using P = StepperConfig;
-    static const std::array<Field<P>, 1> table{{
+    static const std::array<Field<P>, 2> table{{
         {"max_step_s", "s", positive(0.01), &P::max_step_s},
+        {"event_step_s", "s", positive(0.01), &P::event_step_s},
     }};
     return table;
 }

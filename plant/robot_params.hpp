@@ -18,18 +18,23 @@
 
 namespace ddmr::plant {
 
-/// Configuration of the fixed-step stepper in Robot::step.
+/// Configuration of the fixed-step stepper in Robot::step (robot.hpp).
 struct StepperConfig {
     /// Longest internal step [s], (0, 0.01]. Robot::step(dt) splits dt into
-    /// ceil(dt / max_step_s) equal steps. The motors are solved exactly, so
-    /// this bounds only what couples them (the battery: the other motor's
-    /// current through R_b and the charge, held at midpoint values) and the
-    /// arc approximation of the pose. 2e-5 s (320 AVR cycles): halving it
-    /// moves a 12 s closed-loop run by 1.5 um (robot_test.cpp, docs/plant.md).
-    double max_step_s = 2e-5;
+    /// ceil(dt / max_step_s) equal steps. While both shafts turn, the motors
+    /// and the battery between them are solved exactly, so this bounds only
+    /// the arc approximation of the pose (and how long the source voltage
+    /// V_0 - k AH is held). 1e-4 s (1600 AVR cycles): see robot_test.cpp's
+    /// halving test and docs/plant.md.
+    double max_step_s = 1e-4;
+    /// Longest piece of a step in which a motor changes regime (sticks,
+    /// breaks away, or its diode current reaches zero) [s], (0, 0.01]. Such
+    /// a step is solved motor by motor with the battery coupling held over
+    /// each piece. 2e-5 s (320 AVR cycles).
+    double event_step_s = 2e-5;
 };
 
-const std::array<Field<StepperConfig>, 1>& stepper_fields();
+const std::array<Field<StepperConfig>, 2>& stepper_fields();
 void validate(const StepperConfig& p, const char* prefix);
 
 struct RobotParams {

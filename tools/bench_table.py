@@ -93,6 +93,14 @@ def main():
     if run:
         wall = rows[find("BM_RunCase1/")]["median_wall_s"]  # boot to the end of the report, artifacts written
         goal("case 1 boot to END (ddmr-hil run), wall seconds", wall, "< 3 s", wall < 3.0)
+    # Issue 3: a plant step against the time bare simavr spends on the cycles it covers.
+    step1000, plant12 = med("BM_PlantStepSwitched/1000"), med("BM_Plant12sSwitched")
+    if bare and step1000:
+        simavr_ns = 1000 / bare * 1000.0  # 1000 cycles at `bare` Mcycles/s, in ns
+        goal("plant step of 1000 cycles (switched) / bare simavr's time for them", step1000 / simavr_ns, "< 0.01", step1000 / simavr_ns < 0.01)
+    if bare and plant12:
+        simavr_ms = 12 * 16e6 / (bare * 1e6) * 1000.0
+        goal("12 s of plant as the HIL drives it / bare simavr's time for 12 s", plant12 / simavr_ms, "< 0.01", plant12 / simavr_ms < 0.01)
     if sim_ideal is not None:
         goal("host simulation of 12 s (ideal), ms", sim_ideal, "< 50 ms", sim_ideal < 50.0)
     if sim_fw is not None:

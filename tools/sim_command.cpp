@@ -277,7 +277,7 @@ Subcommand register_sim_command(CLI::App& app) {
         ->check(CLI::Range(0.1, 1000.0))
         ->capture_default_str();
     sub->add_option("--plant-step", o->plant_step_s,
-                    "plant step [s] (default: the plant's max_step_s, 2e-5); the ideal control runs at this rate")
+                    "plant step [s] (default: the plant's max_step_s, 1e-4); the ideal control runs at this rate")
         ->check(CLI::Range(62.5e-9, 0.01));
     sub->add_option("--plant", o->plant, "plant parameter YAML (default: embedded), or 'kinematic' (ideal only)");
     sub->add_option("--pwm", o->pwm, "bridge input: averaged (duty) or switched (the 490 Hz waveform)")

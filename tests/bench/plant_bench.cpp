@@ -1,5 +1,6 @@
 // Plant cost: one Robot::step and 12 s of simulated plant, in ns per step.
-// Compare with simavr: a 2e-5 s step covers 320 AVR cycles (docs/plant.md).
+// Compare with simavr: the HIL steps the plant every 1000 AVR cycles
+// (62.5 us); tools/bench_table.py divides by bare simavr's time for them.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -18,15 +19,16 @@ RobotInput input(DriveMode mode, double duty) {
     return in;
 }
 
-/// One step of the default length (2e-5 s), averaged mode, wheels turning.
+/// One HIL coupling step (1000 cycles = 62.5 us), averaged mode, wheels turning.
 void BM_PlantStepAveraged(benchmark::State& state) {
     Robot r;
     EdgeBuffer e;
     r.set_input(input(DriveMode::averaged, 0.6));
-    for (int k = 0; k < 10000; ++k) r.step(2e-5, e), e.clear();  // reach speed
+    const double dt = cycles_to_s(1000);
+    for (int k = 0; k < 10000; ++k) r.step(dt, e), e.clear();  // reach speed
     for (auto _ : state) {
         e.clear();
-        benchmark::DoNotOptimize(r.step(2e-5, e));
+        benchmark::DoNotOptimize(r.step(dt, e));
     }
     state.SetItemsProcessed(state.iterations());
 }
@@ -37,7 +39,7 @@ void BM_PlantStepSwitched(benchmark::State& state) {
     Robot r;
     EdgeBuffer e;
     r.set_input(input(DriveMode::switched, 1.0));
-    for (int k = 0; k < 10000; ++k) r.step(2e-5, e), e.clear();
+    for (int k = 0; k < 10000; ++k) r.step(cycles_to_s(1000), e), e.clear();
     const double dt = cycles_to_s(state.range(0));
     for (auto _ : state) {
         e.clear();
@@ -45,10 +47,10 @@ void BM_PlantStepSwitched(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_PlantStepSwitched)->Arg(16)->Arg(160)->Arg(320);
+BENCHMARK(BM_PlantStepSwitched)->Arg(16)->Arg(160)->Arg(1000)->Arg(1600);
 
 /// 12 s of plant with the real 490 Hz PWM at 50 %, split at every PWM edge
-/// and at the default 2e-5 s, as the HIL drives it.
+/// and every 1000 cycles, as the HIL drives it.
 void BM_Plant12sSwitched(benchmark::State& state) {
     std::int64_t steps = 0;
     for (auto _ : state) {
@@ -57,7 +59,7 @@ void BM_Plant12sSwitched(benchmark::State& state) {
         const PhaseCorrectPwm pwm{128, 0};
         RobotInput in = input(DriveMode::switched, pwm.duty());
         const std::int64_t end = s_to_cycles(12.0);
-        const std::int64_t max_step = s_to_cycles(r.params().stepper.max_step_s);
+        const std::int64_t max_step = 1000;  // the HIL's coupling step
         for (std::int64_t c = 0; c < end;) {
             const std::int64_t next = std::min({end, c + max_step, pwm.next_edge_after(c)});
             for (BridgeInput& b : in.bridge) b.enable = pwm.level_at(c);

@@ -268,10 +268,15 @@ TEST(ReferenceFirmwareIsr, Case1IsrTimingAndCountTears) {
     EXPECT_EQ(int0.count, r.encoder_isrs[0]);
     EXPECT_EQ(int1.count, r.encoder_isrs[1]);
     EXPECT_EQ(r.checked, int0.count + int1.count);
-    // Interrupts are never off for long: an edge waits at most for the longest
-    // ISR in progress (UDRE, <= 131 cycles) plus a few main-code cli cycles
-    // (measured max: INT0 100, INT1 106, TIMER0_OVF 119).
-    for (const auto& v : r.isr.vectors) EXPECT_LT(v.latency.max, 160u) << v.name;
+    // Interrupts are never off for long: a request waits at most for the
+    // longest ISR in progress (UDRE, <= 131 cycles), the higher-priority
+    // requests pending with it (INT0, INT1: 101 each, for TIMER0_OVF) and a
+    // few main-code cli cycles. Measured max: INT0 100, INT1 106, TIMER0_OVF
+    // 185 (an INT0 or INT1 served first).
+    for (const auto& v : r.isr.vectors) {
+        const unsigned higher = v.name == "TIMER0_OVF" ? 2 * 101u : v.name == "INT1" ? 101u : 0u;
+        EXPECT_LT(v.latency.max, 160u + higher) << v.name;
+    }
     EXPECT_EQ(r.isr.max_nesting, 1);  // no handler re-enables interrupts
     EXPECT_LT(static_cast<double>(r.isr.isr_cycles) / static_cast<double>(r.isr.observed_cycles()), 0.02);
 

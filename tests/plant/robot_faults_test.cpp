@@ -44,9 +44,9 @@ TEST(RobotFaults, LockedShaftDrawsTheStallCurrentAndReportsNoEdges) {
     r.set_input(full_averaged(1.0, 0.0));
     const auto edges = run(r, 0.05);  // >> L/R = 2.3 mH / 5.32 ohm = 0.43 ms
     // I = (6.1 - 1.4) / (5.32 + 0.037) = 0.877357 A; only motor 1 draws.
-    // The lock is applied after each internal step, so within a step the
-    // shaft starts to turn and its back-EMF lowers I by ~0.014 %.
-    EXPECT_NEAR(r.motor_current_A(0), 4.7 / 5.357, 3e-4);
+    // The held shaft never turns, so there is no back-EMF at all; after
+    // 0.05 s = 116 L/R the transient is below e^-116.
+    EXPECT_NEAR(r.motor_current_A(0), 4.7 / 5.357, 1e-12);
     EXPECT_EQ(r.motor_speed_rad_s(0), 0.0);
     EXPECT_EQ(r.motor_angle_rad(0), 0.0);
     EXPECT_EQ(edges[0], 0U);
@@ -79,7 +79,7 @@ TEST(RobotFaults, BenchSupplySetsTheBatteryVoltage) {
     r.set_input(full_averaged(1.0, 0.0));
     run(r, 0.05);
     // (5.2 - 1.4) / (5.32 + 0.037) = 0.709352 A; terminal = 5.2 - 0.037 I.
-    EXPECT_NEAR(r.motor_current_A(0), 3.8 / 5.357, 3e-4);
+    EXPECT_NEAR(r.motor_current_A(0), 3.8 / 5.357, 1e-12);
     EXPECT_NEAR(r.battery_voltage_V(), 5.2 - 0.037 * 3.8 / 5.357, 1e-4);
 }
 

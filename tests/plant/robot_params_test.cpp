@@ -67,8 +67,8 @@ TEST(RobotParams, EveryInvalidValueIsRejectedByName) {
                 f.member);
         }
     });
-    // 8 motor fields x 2 + 2 driver + 4 battery + 4 encoder (non-seed) x 2 + 3 + 1 = 34
-    EXPECT_EQ(checked, 34);
+    // 8 motor fields x 2 + 2 driver + 4 battery + 4 encoder (non-seed) x 2 + 3 + 2 = 35
+    EXPECT_EQ(checked, 35);
     EXPECT_TRUE(probe == defaults);  // every value restored
 }
 

@@ -8,7 +8,7 @@
 //     -> true pose, or edge counts -> dead reckoning (firmware_odometry.hpp)
 //
 // Model::ideal, no switch on (the thesis's idealisation):
-//   every plant step (plant_step_s, default the plant's 2e-5 s) the control
+//   every plant step (plant_step_s, default the plant's 1e-4 s) the control
 //   law runs in double on the TRUE pose at the step's start, with the goal at
 //   the true time t and theta_g = theta_0 + w t, gains as given; wheel speeds
 //   by the inverse of eq. (6) with the plant's r_1, r_2, L; V = GR K_a phi with
@@ -103,7 +103,7 @@ struct SimConfig {
     double period_s = 0.01;
     /// Plant step [s], [62.5e-9, 0.01]; the plant subdivides it to its own
     /// max_step_s. Without loop_period the control also runs at this rate.
-    double plant_step_s = 2e-5;
+    double plant_step_s = 1e-4;
     /// Interval of SimResult::samples [s], [1e-5, 1]: 1 kHz like truth.csv.
     double sample_period_s = 1e-3;
 };
