@@ -9,6 +9,8 @@
 #include <sim_elf.h>
 #include <sim_irq.h>
 
+#include <fmt/format.h>
+
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -34,6 +36,24 @@ struct FirmwareBuffers {
         std::free(fw.symbol);
     }
 };
+
+/// Reads `elf` with simavr's own loader and checks that avr_load_firmware()
+/// can take it: simavr's avr_loadcode() abort()s on a program that does not
+/// fit, and ElfImage checks the sections while the loader's own layout
+/// decides (found by tests/fuzz/elf_loader_fuzz.cpp on a damaged section table).
+void read_loadable(const ElfImage& elf, FirmwareBuffers& buffers) {
+    const std::string path = elf.path().string();
+    if (elf_read_firmware(path.c_str(), &buffers.fw) != 0) {
+        throw std::runtime_error("firmware " + path + ": simavr's ELF loader could not read it");
+    }
+    const uint64_t end = static_cast<uint64_t>(buffers.fw.flashbase) + buffers.fw.flashsize;
+    if (end > atmega328p::kFlashBytes) {
+        throw std::runtime_error(fmt::format(
+            "firmware {}: simavr's ELF loader places {} bytes of program at 0x{:04x}, past the "
+            "ATmega328P's {}-byte flash",
+            path, buffers.fw.flashsize, buffers.fw.flashbase, atmega328p::kFlashBytes));
+    }
+}
 
 struct TargetFlag {
     bool reached = false;
@@ -87,6 +107,14 @@ void AvrCore::AvrDeleter::operator()(avr_t* avr) const {
     std::free(avr);
 }
 
+void AvrCore::check_loadable(const ElfImage& elf) {
+    install_simavr_logger();
+    SimavrLog loader_log;  // the loader's messages: not for stderr, the core's run reports them
+    const LoadingLogScope scope(&loader_log);
+    FirmwareBuffers buffers;
+    read_loadable(elf, buffers);
+}
+
 void AvrCore::widen_data_space(avr_t* avr) {
     // simavr 1.6 allocates ramend + 1 bytes of data space, but a push or pop
     // through a wild stack pointer (SP up to 0xFFFF: a firmware that crashed)
@@ -120,10 +148,8 @@ AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), 
     widen_data_space(avr);
 
     FirmwareBuffers buffers;
+    read_loadable(elf_, buffers);
     const std::string path = elf_.path().string();
-    if (elf_read_firmware(path.c_str(), &buffers.fw) != 0) {
-        throw std::runtime_error("firmware " + path + ": simavr's ELF loader could not read it");
-    }
     buffers.fw.frequency = config_.clock_hz;
     std::snprintf(buffers.fw.mmcu, sizeof buffers.fw.mmcu, "%s", atmega328p::kMcuName);
     avr_load_firmware(avr, &buffers.fw);

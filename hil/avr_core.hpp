@@ -54,6 +54,11 @@ public:
     /// Loads `elf` (already validated with ElfImage::require_atmega328p()) into a
     /// fresh ATmega328P. Throws std::runtime_error if simavr cannot load it.
     explicit AvrCore(const ElfImage& elf, const AvrCoreConfig& config = {});
+
+    /// Checks, without building a core, that simavr's own ELF loader reads
+    /// `elf` and lays its program out inside the flash (what the constructor
+    /// needs); throws std::runtime_error naming the file otherwise.
+    static void check_loadable(const ElfImage& elf);
     ~AvrCore();
     AvrCore(const AvrCore&) = delete;
     AvrCore& operator=(const AvrCore&) = delete;

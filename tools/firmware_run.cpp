@@ -17,6 +17,7 @@
 #include "function_profile_output.hpp"
 #include "hil/board.hpp"
 #include "hil/eeprom_log.hpp"
+#include "hil/avr_core.hpp"
 #include "hil/elf_image.hpp"
 #include "hil/function_profiler.hpp"
 #include "hil/gdb_server.hpp"
@@ -280,6 +281,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     const hil::ElfImage elf = hil::ElfImage::read(options.firmware);
     elf.require_atmega328p();
+    hil::AvrCore::check_loadable(elf);
     const hil::ElfSymbol ready = elf.require(options.ready_symbol);
     std::optional<hil::ElfSymbol> loop_mark;
     if (options.profile_top == 0) {

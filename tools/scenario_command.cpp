@@ -20,6 +20,8 @@
 
 #include "common/atomic_file.hpp"
 #include "exit_codes.hpp"
+#include "hil/avr_core.hpp"
+#include "hil/elf_image.hpp"
 #include "scenario/junit.hpp"
 #include "scenario/scenario_runner.hpp"
 #include "scenario/scenario_yaml.hpp"
@@ -110,7 +112,9 @@ int run_suite(const ScenarioCli& cli) {
             throw std::invalid_argument(fmt::format("{}: scenario name '{}' is used twice (its output folder would be shared)",
                                                     f, scenarios.back().name));
         }
-        hil::ElfImage::read(scenarios.back().firmware).require_atmega328p();
+        const hil::ElfImage elf = hil::ElfImage::read(scenarios.back().firmware);
+        elf.require_atmega328p();
+        hil::AvrCore::check_loadable(elf);
     }
     // --shard I/N keeps every N-th scenario of the suite's order, from the I-th.
     std::vector<std::string> suite_names;

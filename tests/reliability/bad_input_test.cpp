@@ -54,6 +54,11 @@ std::vector<Case> firmware_cases() {
     const auto eol = hex.find('\n');
     hex[eol - 1] = hex[eol - 1] == '0' ? '1' : '0';
     cases.push_back({"IntelHexBadChecksum", "bad.hex", hex, "--firmware", "Intel HEX"});
+    // A fuzz finding: section headers that pass the ELF checks, but simavr's
+    // loader lays the program out past the flash (it would abort()).
+    cases.push_back({"LoaderPastFlash", "past.elf",
+                     read_bytes(source_dir() / "tests/fuzz/corpus/elf_loader/regression-loader-past-flash.elf"),
+                     "--firmware", "past the ATmega328P's 32768-byte flash"});
     return cases;
 }
 
