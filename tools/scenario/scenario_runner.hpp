@@ -34,7 +34,7 @@ namespace ddmr::tools::scenario {
 /// `wait-serial` and `expect-serial` search the last 64 KiB (68 s of
 /// continuous output at 9600 baud), `fail-serial` the last 64 KiB of a line,
 /// so memory stays flat however long a scenario runs (docs/scenarios.md).
-inline constexpr std::size_t kSerialWindowBytes = 64 * 1024;
+inline constexpr std::size_t kSerialWindowBytes = std::size_t{64} * 1024;
 
 enum class Verdict { kPass, kFail, kFirmware };
 const char* to_string(Verdict v);
