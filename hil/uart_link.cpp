@@ -56,6 +56,7 @@ UartLink::UartLink(AvrCore& core, UartTiming timing) : core_(core) {
     avr_irq_t* irqs = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(kUartName), 0);
     if (irqs == nullptr) throw std::runtime_error("simavr USART0 has no IRQs");
     input_irq_ = irqs + UART_IRQ_INPUT;
+    received_.reserve(kRecordedBytes);
     avr_irq_register_notify(irqs + UART_IRQ_OUTPUT, &UartLink::on_output, this);
     avr_irq_register_notify(irqs + UART_IRQ_OUT_XON, &UartLink::on_xon, this);
     avr_irq_register_notify(irqs + UART_IRQ_OUT_XOFF, &UartLink::on_xoff, this);
@@ -78,8 +79,10 @@ UartLink::~UartLink() { core_.remove_reset_listener(this); }
 
 void UartLink::on_output(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     auto* self = static_cast<UartLink*>(param);
-    self->received_.push_back(UartByte{self->core_.cycle(), static_cast<uint8_t>(value)});
-    if (self->listener_) self->listener_(self->received_.back());
+    const UartByte byte{self->core_.cycle(), static_cast<uint8_t>(value)};
+    if (self->received_.size() < kRecordedBytes) self->received_.push_back(byte);  // memory stays flat
+    ++self->bytes_received_;
+    if (self->listener_) self->listener_(byte);
 }
 
 void UartLink::on_xon(avr_irq_t* /*irq*/, uint32_t value, void* param) {

@@ -53,10 +53,15 @@ public:
     /// Bytes queued by send() and not yet delivered.
     std::size_t pending() const { return queue_.size(); }
 
-    /// Every byte the firmware transmitted so far, in order.
+    /// The first kRecordedBytes bytes the firmware transmitted, in order,
+    /// with their cycles (for tests): long runs keep their memory flat.
+    /// Whoever needs every byte takes them from the listener as they come.
+    static constexpr std::size_t kRecordedBytes = 16384;
     const std::vector<UartByte>& received() const { return received_; }
-    /// The same bytes as text (verbatim, including \r\n).
+    /// The recorded bytes as text (verbatim, including \r\n).
     std::string text() const;
+    /// Every byte the firmware transmitted so far, counted (recorded or not).
+    uint64_t bytes_received() const { return bytes_received_; }
 
     /// Called for every byte the firmware transmits, as it is written to UDR0
     /// (inside the simulation: keep it short, do not throw).
@@ -83,7 +88,8 @@ private:
     bool xoff_ = false;
     bool pumping_ = false;
     std::deque<uint8_t> queue_;
-    std::vector<UartByte> received_;
+    std::vector<UartByte> received_;  ///< the first kRecordedBytes
+    uint64_t bytes_received_ = 0;
     std::function<void(const UartByte&)> listener_;
 };
 

@@ -372,6 +372,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         truth_csv.write(row);
     });
     AtomicFileWriter firmware_csv(options.out_dir / "firmware.csv");
+    // uart.txt grows as the firmware writes, so no copy of it is held in memory.
+    AtomicFileWriter uart_txt(options.out_dir / "uart.txt");
     {
         std::string header = "iteration,cycle,t_avr_s";
         for (const auto& v : traced_variables()) header += "," + v.name;
@@ -452,6 +454,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const hil::Variable ey = rig.variables().lookup("Ey", hil::VarType::kFloat);
     const hil::Variable theta = rig.variables().lookup("Theta", hil::VarType::kFloat);
     uart.set_listener([&](const hil::UartByte& b) {
+        uart_txt.write(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
         const bool was_done = parser.complete() || parser.error().has_value();
         const bool had_ended = parser.report().ended;
         parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
@@ -470,8 +473,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const Cycles limit = hil::s_to_cycles(options.max_sim_seconds, core.clock_hz());
     const auto progress = [&](const char* phase) {
         if (!options.progress) return;
-        std::fprintf(stderr, "ddmr-hil run: %-8s t = %6.2f s of %.0f s simulated, %zu UART bytes\n",
-                     phase, core.seconds(), options.max_sim_seconds, uart.received().size());
+        std::fprintf(stderr, "ddmr-hil run: %-8s t = %6.2f s of %.0f s simulated, %llu UART bytes\n",
+                     phase, core.seconds(), options.max_sim_seconds,
+                     static_cast<unsigned long long>(uart.bytes_received()));
     };
 
     // The wall-clock limit: checked every simulated second by a cycle timer,
@@ -501,7 +505,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (vcd) vcd->finish();
     result.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-    result.uart_text = uart.text();
+    result.uart_bytes = uart.bytes_received();
     result.eeprom = rig.eeprom().read_all();
     result.report = parser.report();
     const double sim_s = hil::cycles_to_s(result.cycles_total, core.clock_hz());
@@ -656,7 +660,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         {"exit_message", result.message},
         {"ready_cycle", result.ready_cycle ? json(*result.ready_cycle) : json(nullptr)},
         {"uart",
-         {{"bytes", uart.received().size()},
+         {{"bytes", uart.bytes_received()},
           {"cycles_per_byte", uart.cycles_per_byte()},
           {"timing", options.uart_timing == hil::UartTiming::kChip ? "chip" : "simavr"},
           {"bytes_not_delivered", uart.pending()}}},
@@ -686,7 +690,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"warnings", core.log().warnings()},
           {"first_messages", core.log().first_messages()}}},
     };
-    write_file_atomic(options.out_dir / "uart.txt", result.uart_text);
+    uart_txt.commit();
     write_file_atomic(options.out_dir / "eeprom.bin",
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()),
                                        result.eeprom.size()));

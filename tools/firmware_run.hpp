@@ -108,7 +108,7 @@ struct FirmwareRunResult {
     hil::Cycles cycles_total = 0;
     std::optional<hil::Cycles> ready_cycle;  ///< when the case byte was sent
     double wall_seconds = 0.0;
-    std::string uart_text;
+    uint64_t uart_bytes = 0;      ///< bytes the firmware sent, all of them in uart.txt
     hil::EepromImage eeprom{};
     hil::FirmwareReport report;
     std::array<hil::EncoderChannelStats, 2> encoder{};

@@ -11,6 +11,7 @@
 #include "common/atomic_file.hpp"
 #include "scenario/junit.hpp"
 #include "scenario/suite_results.hpp"
+#include "sweep_merge.hpp"
 
 namespace ddmr::tools {
 namespace {
@@ -35,6 +36,10 @@ json read_json(const fs::path& p) {
 }
 
 int run_merge(const MergeCli& cli) {
+    if (are_sweep_shards(cli.shard_dirs)) {
+        if (!cli.junit.empty()) throw std::invalid_argument("--junit: a sweep has no JUnit report");
+        return merge_sweep_shards(cli.shard_dirs, cli.out_dir);
+    }
     // Check that the shards are one suite, each shard once, before writing.
     std::optional<std::vector<std::string>> suite;
     std::optional<unsigned> count;
@@ -80,7 +85,8 @@ Subcommand register_merge_command(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "merge",
         "Combine the --out folders of `ddmr-hil scenario --shard I/N` runs (every shard once) into one folder, "
-        "identical to an unsharded run's; same exit codes as `scenario`.");
+        "identical to an unsharded run's; same exit codes as `scenario`. Folders of `ddmr-hil sweep --shard I/N` "
+        "are merged into the unsharded sweep's CSVs and sweep.json (no plots; same exit codes as `sweep`).");
     sub->add_option("shards", cli->shard_dirs, "The shards' --out folders")->required()->check(CLI::ExistingDirectory);
     sub->add_option("--out", cli->out_dir, "The merged folder")->required();
     sub->add_option("--junit", cli->junit, "Also write JUnit XML here (times are not known after a merge: 0)");

@@ -1,11 +1,14 @@
 // `ddmr-hil sweep [--study ID[,ID...]] [-j N] [--out DIR] [--model ideal|firmware]
-//                 [--plant kinematic|FILE] [--no-plot] [--quiet]`
+//                 [--plant kinematic|FILE] [--no-plot] [--quiet] [--shard I/N]`
 //
 // Every option is checked, every run's configuration validated and the
 // plotting interpreter probed before the output folder is touched; a bad
 // value gives one line naming the option and the value, exit code 2. The
 // files hold no wall time and are written in study order from results
-// stored by index: -j 1 and -j 8 give the same bytes.
+// stored by index: -j 1 and -j 8 give the same bytes. With --shard I/N only
+// the runs at positions I-1, I-1+N, ... of the whole sweep run, into a shard
+// folder that `ddmr-hil merge` combines with the others into the unsharded
+// sweep's files (tools/sweep_results.hpp).
 #include "sweep_command.hpp"
 
 #include <fcntl.h>
@@ -16,12 +19,14 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iterator>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -32,6 +37,8 @@
 #include "common/plant_option.hpp"
 #include "exit_codes.hpp"
 #include "plant/params_yaml.hpp"
+#include "scenario/suite_results.hpp"
+#include "sweep_results.hpp"
 #include "tools/hostsim/gain_sweep.hpp"
 
 extern char** environ;
@@ -55,6 +62,7 @@ struct SweepCli {
     std::string plant;
     bool no_plot = false;
     bool quiet = false;
+    std::string shard;  ///< "I/N", or empty: every run
 };
 
 /// Everything the sweep needs, checked.
@@ -67,6 +75,7 @@ struct SweepPlan {
     std::string plant_source;
     unsigned workers = 1;
     std::filesystem::path out_dir;
+    std::optional<scenario::Shard> shard;  ///< only its runs, into a shard folder
 };
 
 SweepPlan plan_of(const SweepCli& o) {
@@ -103,6 +112,7 @@ SweepPlan plan_of(const SweepCli& o) {
     }
     p.workers = o.jobs != 0 ? o.jobs : std::max(1u, std::thread::hardware_concurrency());
     p.out_dir = o.out;
+    if (!o.shard.empty()) p.shard = scenario::parse_shard(o.shard);
     return p;
 }
 
@@ -147,26 +157,19 @@ void check_plotting() {
 
 
 
-constexpr const char* kCsvHeader =
-    "case,gain_value,t_s,x_m,y_m,theta_rad,goal_x_m,goal_y_m,error_m,xe_m,ye_m,v_m_s,omega_rad_s\n";
-
-/// One study's runs in long format: one row per run and sample. gain_value
-/// is empty when the study varies no gain; error_m = |G - P|; xe_m, ye_m =
-/// eq. (12)'s error in the robot frame (true pose).
-std::string study_csv(const hs::Study& study, const std::vector<const hs::StudyRun*>& runs,
-                      const std::vector<const hs::SimResult*>& results) {
-    std::string csv = kCsvHeader;
-    for (std::size_t k = 0; k < runs.size(); ++k) {
-        const std::string gain = study.varied == hs::SweptGain::none ? "" : fmt::format("{:g}", runs[k]->value);
-        for (const hs::SimSample& s : results[k]->samples) {
-            const hs::TrackingError<double> e =
-                hs::tracking_error<double>(s.goal_x_m, s.goal_y_m, 0.0, {s.x_m, s.y_m, s.theta_rad});
-            fmt::format_to(std::back_inserter(csv), "{},{},{:.2f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},"
-                                                    "{:.6f},{:.6f},{:.6f}\n",
-                           runs[k]->case_spec.name, gain, s.t_s, s.x_m, s.y_m, s.theta_rad, s.goal_x_m,
-                           s.goal_y_m, std::hypot(s.goal_x_m - s.x_m, s.goal_y_m - s.y_m), e.x_m, e.y_m,
-                           s.v_m_s, s.omega_rad_s);
-        }
+/// One run's rows of its study's CSV (kSweepCsvHeader), in long format: one
+/// row per sample. gain_value is empty when the study varies no gain;
+/// error_m = |G - P|; xe_m, ye_m = eq. (12)'s error in the robot frame (true pose).
+std::string run_csv_rows(const hs::Study& study, const hs::StudyRun& run, const hs::SimResult& r) {
+    std::string csv;
+    const std::string gain = study.varied == hs::SweptGain::none ? "" : fmt::format("{:g}", run.value);
+    for (const hs::SimSample& s : r.samples) {
+        const hs::TrackingError<double> e =
+            hs::tracking_error<double>(s.goal_x_m, s.goal_y_m, 0.0, {s.x_m, s.y_m, s.theta_rad});
+        fmt::format_to(std::back_inserter(csv), "{},{},{:.2f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},"
+                                                "{:.6f},{:.6f},{:.6f}\n",
+                       run.case_spec.name, gain, s.t_s, s.x_m, s.y_m, s.theta_rad, s.goal_x_m, s.goal_y_m,
+                       std::hypot(s.goal_x_m - s.x_m, s.goal_y_m - s.y_m), e.x_m, e.y_m, s.v_m_s, s.omega_rad_s);
     }
     return csv;
 }
@@ -195,28 +198,9 @@ nlohmann::json run_json(const hs::Study& study, const hs::StudyRun& run, const h
     return j;
 }
 
-int run_sweep(const SweepCli& o) {
-    const SweepPlan plan = plan_of(o);
-    if (!o.no_plot) check_plotting();
-    prepare_output_dir(plan.out_dir);
-
-    // Progress: a study is done when its last run is.
-    std::vector<std::size_t> remaining(plan.studies.size(), 0);
-    for (std::size_t s : plan.study_of_run) ++remaining[s];
-    std::size_t studies_done = 0;
-    auto on_done = [&](std::size_t i) {
-        const std::size_t s = plan.study_of_run[i];
-        if (--remaining[s] != 0) return;
-        ++studies_done;
-        if (!o.quiet) {
-            fmt::print(stderr, "sweep: {} done ({}/{} studies)\n", plan.studies[s].id, studies_done,
-                       plan.studies.size());
-        }
-    };
-    const auto wall_start = std::chrono::steady_clock::now();
-    const std::vector<hs::SimResult> results = hs::simulate_parallel(plan.configs, plan.workers, on_done);
-    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-
+/// sweep.json without the runs: the settings and every study, each with
+/// "runs" empty (write_sweep_folder fills them).
+nlohmann::json header_json(const SweepPlan& plan) {
     nlohmann::json j;
     j["model"] = hs::to_string(plan.base.model);
     j["fidelity"] = plan.base.fidelity.names();
@@ -226,11 +210,7 @@ int run_sweep(const SweepCli& o) {
     j["sample_period_s"] = hs::kSweepSamplePeriod_s;
     j["settle_band_m"] = hs::kSettleBand_m;
     j["studies"] = nlohmann::json::array();
-    bool all_ok = true;
-    for (std::size_t s = 0; s < plan.studies.size(); ++s) {
-        const hs::Study& study = plan.studies[s];
-        std::vector<const hs::StudyRun*> runs;
-        std::vector<const hs::SimResult*> study_results;
+    for (const hs::Study& study : plan.studies) {
         nlohmann::json js;
         js["id"] = study.id;
         js["figure"] = study.figure;
@@ -246,22 +226,64 @@ int run_sweep(const SweepCli& o) {
         js["trajectories"] = nlohmann::json::array();
         for (const hs::CaseSpec& c : study.trajectories) js["trajectories"].push_back(case_json(c));
         js["runs"] = nlohmann::json::array();
-        for (std::size_t i = 0; i < plan.runs.size(); ++i) {
-            if (plan.study_of_run[i] != s) continue;
-            runs.push_back(&plan.runs[i]);
-            study_results.push_back(&results[i]);
-            js["runs"].push_back(run_json(study, plan.runs[i], results[i]));
-            all_ok = all_ok && results[i].status == plant::StepStatus::ok;
-        }
-        write_file_atomic(plan.out_dir / (study.id + ".csv"), study_csv(study, runs, study_results));
         j["studies"].push_back(js);
     }
-    write_file_atomic(plan.out_dir / "sweep.json", j.dump(2) + "\n");
-    fmt::print("sweep: {} studies, {} runs, {} worker{}, wall {:.2f} s (simulation), wrote {}\n",
-               plan.studies.size(), plan.runs.size(), std::min<std::size_t>(plan.workers, plan.runs.size()),
-               plan.workers == 1 ? "" : "s", wall_s, plan.out_dir.string());
+    return j;
+}
 
-    if (!o.no_plot) {
+int run_sweep(const SweepCli& o) {
+    const SweepPlan plan = plan_of(o);
+    const bool plot = !o.no_plot && !plan.shard;  // a shard has no study CSVs to plot
+    if (plot) check_plotting();
+    prepare_output_dir(plan.out_dir);
+
+    // The runs this process simulates: every run, or the shard's slice.
+    std::vector<std::size_t> mine;
+    std::vector<hs::SimConfig> configs;
+    for (std::size_t k = 0; k < plan.runs.size(); ++k) {
+        if (plan.shard && !plan.shard->contains(k)) continue;
+        mine.push_back(k);
+        configs.push_back(plan.configs[k]);
+    }
+    // Progress: a study is done when its last run is.
+    std::vector<std::size_t> remaining(plan.studies.size(), 0);
+    for (std::size_t k : mine) ++remaining[plan.study_of_run[k]];
+    const auto studies_here = static_cast<std::size_t>(
+        std::count_if(remaining.begin(), remaining.end(), [](std::size_t n) { return n > 0; }));
+    std::size_t studies_done = 0;
+    auto on_done = [&](std::size_t i) {
+        const std::size_t s = plan.study_of_run[mine[i]];
+        if (--remaining[s] != 0) return;
+        ++studies_done;
+        if (!o.quiet) {
+            fmt::print(stderr, "sweep: {} done ({}/{} studies)\n", plan.studies[s].id, studies_done, studies_here);
+        }
+    };
+    const auto wall_start = std::chrono::steady_clock::now();
+    const std::vector<hs::SimResult> results = hs::simulate_parallel(configs, plan.workers, on_done);
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+
+    std::vector<SweepRunRecord> records;
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+        const std::size_t k = mine[i];
+        const hs::Study& study = plan.studies[plan.study_of_run[k]];
+        records.push_back({plan.study_of_run[k], run_json(study, plan.runs[k], results[i]),
+                           run_csv_rows(study, plan.runs[k], results[i])});
+    }
+    const nlohmann::json header = header_json(plan);
+    if (plan.shard) {
+        std::vector<const SweepRunRecord*> by_run(plan.runs.size(), nullptr);
+        for (std::size_t i = 0; i < mine.size(); ++i) by_run[mine[i]] = &records[i];
+        write_sweep_shard(plan.out_dir, {*plan.shard, header, plan.study_of_run}, by_run);
+    } else {
+        write_sweep_folder(plan.out_dir, header, records);
+    }
+    fmt::print("sweep: {}{} studies, {} runs, {} worker{}, wall {:.2f} s (simulation), wrote {}\n",
+               plan.shard ? "shard " + plan.shard->text() + " of " : "", plan.studies.size(), mine.size(),
+               std::min<std::size_t>(plan.workers, mine.size()), plan.workers == 1 ? "" : "s", wall_s,
+               plan.out_dir.string());
+
+    if (plot) {
         const int rc = run_process({kPython, hs::sweep_plot_script(), plan.out_dir.string()}, /*quiet=*/false);
         if (rc != 0) {
             fmt::print(stderr, "ddmr-hil sweep: plot_sweep.py failed (exit {}); the CSVs and sweep.json are in {}\n",
@@ -269,7 +291,7 @@ int run_sweep(const SweepCli& o) {
             return kExitCheckFailed;
         }
     }
-    if (!all_ok) {
+    if (std::any_of(records.begin(), records.end(), stopped_early)) {
         fmt::print(stderr, "ddmr-hil sweep: a plant stopped early in some runs (status in sweep.json)\n");
         return kExitCheckFailed;
     }
@@ -296,6 +318,10 @@ Subcommand register_sweep_command(CLI::App& app) {
     sub->add_option("--plant", o->plant, "plant parameter YAML (default: embedded), or 'kinematic' (ideal only)");
     sub->add_flag("--no-plot", o->no_plot, "write the CSVs and sweep.json only (no python3-matplotlib needed)");
     sub->add_flag("-q,--quiet", o->quiet, "no progress on stderr");
+    sub->add_option("--shard", o->shard,
+                    "I/N: run only the I-th of N round-robin slices of the sweep's runs (positions I-1, I-1+N, ...), "
+                    "into a shard folder without plots; `ddmr-hil merge` combines the N folders into the unsharded "
+                    "sweep's files (docs/scaling.md)");
     return Subcommand{sub, [o] { return run_sweep(*o); }};
 }
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -24,6 +25,16 @@ struct ProcessResult {
 inline std::string read_text(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Every regular file below `dir`, by its relative path, with its bytes:
+/// two output folders are byte-identical if their trees are equal.
+inline std::map<std::string, std::string> file_tree(const std::filesystem::path& dir) {
+    std::map<std::string, std::string> files;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) files[std::filesystem::relative(e.path(), dir).string()] = read_text(e.path());
+    }
+    return files;
 }
 
 inline ProcessResult run_command(const std::string& command_line) {

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <map>
 #include <string>
 
 #include "support/process.hpp"
@@ -15,15 +14,6 @@ namespace ddmr::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Every regular file below `dir`, relative, with its bytes.
-std::map<std::string, std::string> tree(const fs::path& dir) {
-    std::map<std::string, std::string> files;
-    for (const auto& e : fs::recursive_directory_iterator(dir)) {
-        if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = read_text(e.path());
-    }
-    return files;
-}
 
 class MergeCommand : public ::testing::Test {
 protected:
@@ -59,7 +49,7 @@ TEST_F(MergeCommand, MergedShardsEqualTheUnshardedRun) {
                                     sh_quote((dir_ / "shard-3").string()) + " " + sh_quote((dir_ / "shard-2").string()) +
                                     " --out " + sh_quote((dir_ / "merged").string()));
     EXPECT_EQ(merged.exit_code, 1) << merged.err;
-    EXPECT_EQ(tree(dir_ / "merged"), tree(dir_ / "whole"));
+    EXPECT_EQ(file_tree(dir_ / "merged"), file_tree(dir_ / "whole"));
     // Round robin: shard 1 of 3 holds the 1st and 4th scenarios.
     EXPECT_TRUE(fs::exists(dir_ / "shard-1/one"));
     EXPECT_TRUE(fs::exists(dir_ / "shard-1/again"));

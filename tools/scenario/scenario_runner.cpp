@@ -29,6 +29,7 @@
 #include "hil/vcd_recorder.hpp"
 #include "hil/vcd_writer.hpp"
 #include "hostsim/host_sim.hpp"
+#include "scenario/text_window.hpp"
 
 namespace ddmr::tools::scenario {
 namespace fs = std::filesystem;
@@ -133,6 +134,7 @@ public:
         r.file = s_.file;
         const auto wall0 = std::chrono::steady_clock::now();
         prepare_output_dir(out_dir_);
+        uart_txt_.emplace(out_dir_ / "uart.txt");
         AtomicFileWriter truth(out_dir_ / "truth.csv");
         truth.write(truth_csv_header(/*with_drive=*/true));
         std::string row;
@@ -167,7 +169,7 @@ public:
         std::vector<hil::LineByte> tail;
         adapter_.flush(tail);
         for (const auto& b : tail) receive(b);
-        if (!line_.empty()) check_fail_patterns(line_, core().cycle());  // a last line without \n
+        if (!line_.empty()) check_fail_patterns(line_.view(), core().cycle());  // a last line without \n
         if (halt_ == Halt::kFailSerial && r.verdict == Verdict::kPass) {
             r.verdict = Verdict::kFail;
             r.message = fmt::format("{}: {}", s_.file.string(), halt_message_);
@@ -175,7 +177,7 @@ public:
         r.cycles = core().cycle();
         r.sim_seconds = seconds(r.cycles);
         r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-        r.uart_text = text_;
+        r.uart_bytes = text_.size();
         r.framing_errors = adapter_.framing_errors();
         write_artifacts(r);
         truth.commit();
@@ -199,19 +201,25 @@ private:
         for (const auto& lb : scratch_) receive(lb);
     }
     void receive(const hil::LineByte& b) {
-        text_.push_back(static_cast<char>(b.value));
+        const char c = static_cast<char>(b.value);
+        text_.push_back(c);
+        uart_txt_->write(std::string_view(&c, 1));
         if (b.value == '\n') {
-            check_fail_patterns(line_, static_cast<Cycles>(b.cycle));
+            check_fail_patterns(line_.view(), static_cast<Cycles>(b.cycle));
             line_.clear();
         } else if (b.value != '\r') {
-            line_.push_back(static_cast<char>(b.value));
+            line_.push_back(c);
         }
-        if (wait_text_ && text_.find(*wait_text_, cursor_) != std::string::npos) core().request_stop();
+        // A match that ends with this byte, after the previous wait's (any
+        // earlier one was found before the run segment began).
+        if (wait_text_ && text_.size() >= cursor_ + wait_text_->size() && text_.ends_with(*wait_text_)) {
+            core().request_stop();
+        }
     }
-    void check_fail_patterns(const std::string& line, Cycles cycle) {
+    void check_fail_patterns(std::string_view line, Cycles cycle) {
         if (halt_ != Halt::kNone) return;
         for (const auto& [pattern, re] : fail_patterns_) {
-            if (std::regex_search(line, re)) {
+            if (std::regex_search(line.begin(), line.end(), re)) {
                 halt_ = Halt::kFailSerial;
                 halt_message_ = fmt::format("fail-serial '{}' matched the line '{}' at t={:.6f} s", pattern, line,
                                             seconds(cycle));
@@ -335,20 +343,23 @@ private:
         const Cycles start = core().cycle();
         wait_text_ = w.text;
         const Cycles end = w.timeout == 0 ? kNever : start + w.timeout;
-        const bool found = advance(end, [&] { return text_.find(w.text, cursor_) != std::string::npos; });
+        const bool found = advance(end, [&] { return text_.find(w.text, cursor_).has_value(); });
         wait_text_.reset();
         if (!found) {
-            const std::string tail = text_.size() > 60 ? "..." + text_.substr(text_.size() - 60) : text_;
+            const std::string_view seen = text_.view();
+            const std::string tail =
+                seen.size() > 60 ? "..." + std::string(seen.substr(seen.size() - 60)) : std::string(seen);
             throw StepFailed{Verdict::kFail,
                              fmt::format("expected '{}' within {:.3f} s; received {} bytes ({} framing errors), ending '{}'",
                                          w.text, seconds(w.timeout), text_.size(), adapter_.framing_errors(),
                                          printable(tail))};
         }
-        cursor_ = text_.find(w.text, cursor_) + w.text.size();
+        cursor_ = *text_.find(w.text, cursor_) + w.text.size();
         return {};
     }
     std::string run_step(const ExpectSerial& e) {
-        if (!std::regex_search(text_, std::regex(e.pattern))) {
+        const std::string_view seen = text_.view();  // the last kSerialWindowBytes
+        if (!std::regex_search(seen.begin(), seen.end(), std::regex(e.pattern))) {
             throw StepFailed{Verdict::kFail, fmt::format("expected the output to match /{}/; it does not ({} bytes)",
                                                          e.pattern, text_.size())};
         }
@@ -657,11 +668,11 @@ private:
             {"sim_seconds", r.sim_seconds},
             {"steps", steps},
             {"steps_total", s_.steps.size()},
-            {"uart_bytes", r.uart_text.size()},
+            {"uart_bytes", r.uart_bytes},
             {"framing_errors", r.framing_errors},
         };
         const hil::EepromImage image = rig_->eeprom().read_all();
-        write_file_atomic(out_dir_ / "uart.txt", r.uart_text);
+        uart_txt_->commit();
         write_file_atomic(out_dir_ / "eeprom.bin",
                           std::string_view(reinterpret_cast<const char*>(image.data()), image.size()));
         write_file_atomic(out_dir_ / "isr.md", hil::to_markdown(isr_->summary()));
@@ -690,9 +701,11 @@ private:
     bool armed_ = false;
     hil::SerialLine adapter_;
     std::vector<hil::LineByte> scratch_;
-    std::string text_, line_;
+    TextWindow text_{kSerialWindowBytes};  ///< the received text's end (uart.txt has it all)
+    TextWindow line_{kSerialWindowBytes};  ///< the line being received, without \r
+    std::optional<AtomicFileWriter> uart_txt_;
     std::string unsent_;  ///< written before the firmware enabled its receiver
-    std::size_t cursor_ = 0;
+    uint64_t cursor_ = 0;  ///< position in the received text after the previous wait-serial's match
     std::optional<std::string> wait_text_;
     std::vector<std::pair<std::string, std::regex>> fail_patterns_;
     Halt halt_ = Halt::kNone;

@@ -11,7 +11,8 @@
 // came first: exit 3).
 //
 // Outputs in `out_dir` (each written atomically, also on failure):
-//   uart.txt     what the adapter received (at its baud rate)
+//   uart.txt     what the adapter received (at its baud rate), streamed
+//                to the file as it arrives
 //   truth.csv    the plant's ground truth at 1 kHz
 //   eeprom.bin   the EEPROM at the end
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (time origin: the first write-serial)
@@ -28,6 +29,12 @@
 #include "scenario/scenario.hpp"
 
 namespace ddmr::tools::scenario {
+
+/// How much of the received serial text the runner keeps [bytes]:
+/// `wait-serial` and `expect-serial` search the last 64 KiB (68 s of
+/// continuous output at 9600 baud), `fail-serial` the last 64 KiB of a line,
+/// so memory stays flat however long a scenario runs (docs/scenarios.md).
+inline constexpr std::size_t kSerialWindowBytes = std::size_t{64} * 1024;
 
 enum class Verdict { kPass, kFail, kFirmware };
 const char* to_string(Verdict v);
@@ -52,7 +59,7 @@ struct ScenarioResult {
     Cycles cycles = 0;
     double sim_seconds = 0.0;
     double wall_seconds = 0.0;
-    std::string uart_text;
+    uint64_t uart_bytes = 0;       ///< what the adapter received (all of it in uart.txt)
     uint64_t framing_errors = 0;
 };
 
