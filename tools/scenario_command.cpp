@@ -20,7 +20,6 @@
 
 #include "common/atomic_file.hpp"
 #include "exit_codes.hpp"
-#include "scenario/junit.hpp"
 #include "scenario/scenario_runner.hpp"
 #include "scenario/scenario_yaml.hpp"
 #include "scenario/sketch_build.hpp"
@@ -192,17 +191,15 @@ int run_suite(const ScenarioCli& cli) {
         std::fprintf(stderr, "  done %-28s %s (%.1f s wall)\n", r.name.c_str(), sc::to_string(r.verdict), wall);
     }
 
-    // Verdicts in the order given, and the combined result.
-    std::vector<sc::ScenarioResult> all;
-    for (auto& r : results) all.push_back(*r);
-    sc::print_verdicts(all);
-    write_file_atomic(out / "results.json", sc::suite_results_json(all).dump(2) + "\n");
     if (shard) {
         write_file_atomic(out / "shard.json",
                           json{{"shard", shard->text()}, {"suite", suite_names}}.dump(2) + "\n");
     }
-    if (!cli.junit.empty()) write_file_atomic(cli.junit, sc::junit_xml("ddmr-hil scenarios", all));
-    return sc::suite_exit_code(all);
+    // Verdicts in the order given, and the combined result.
+    std::vector<sc::ScenarioResult> all;
+    all.reserve(results.size());
+    for (auto& r : results) all.push_back(*r);
+    return sc::finish_suite(all, out, cli.junit);
 }
 
 }  // namespace
