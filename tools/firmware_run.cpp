@@ -171,14 +171,12 @@ hil::TracedVariable parse_trace_spec(const std::string& spec, const hil::ElfImag
     }
     const auto sym = elf.find(v.name);
     if (!sym) throw std::invalid_argument("--trace '" + spec + "': firmware has no symbol '" + v.name + "'");
-    switch (sym->size) {
-        case 1: v.type = hil::VarType::kUint8; break;
-        case 2: v.type = hil::VarType::kInt16; break;
-        case 4: v.type = hil::VarType::kFloat; break;
-        default:
-            throw std::invalid_argument("--trace '" + spec + "': '" + v.name + "' has " + std::to_string(sym->size) +
-                                        " bytes; give its type as name:type");
+    const auto type = hil::default_var_type(sym->size, hil::FourByteDefault::kFloat);
+    if (!type) {
+        throw std::invalid_argument("--trace '" + spec + "': '" + v.name + "' has " + std::to_string(sym->size) +
+                                    " bytes; give its type as name:type");
     }
+    v.type = *type;
     return v;
 }
 

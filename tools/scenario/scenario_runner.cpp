@@ -88,13 +88,12 @@ PinRegs uno_pin_regs(int pin) {
 hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
     const auto sym = elf.find(name);
     if (!sym) throw StepFailed{Verdict::kFail, fmt::format("the firmware has no symbol '{}'", name)};
-    switch (sym->size) {
-        case 1: return hil::VarType::kUint8;
-        case 2: return hil::VarType::kInt16;
-        default:  // 4 bytes: long or float, the symbol table cannot tell
-            throw StepFailed{Verdict::kFail, fmt::format("'{}' has {} bytes: give its type (type: int32, uint32 or float)",
-                                                         name, sym->size)};
+    const auto type = hil::default_var_type(sym->size, hil::FourByteDefault::kNone);
+    if (!type) {
+        throw StepFailed{Verdict::kFail, fmt::format("'{}' has {} bytes: give its type (type: int32, uint32 or float)",
+                                                     name, sym->size)};
     }
+    return *type;
 }
 
 class Session {
