@@ -113,6 +113,7 @@ int run_suite(const ScenarioCli& cli) {
     }
     // --shard I/N keeps every N-th scenario of the suite's order, from the I-th.
     std::vector<std::string> suite_names;
+    suite_names.reserve(scenarios.size());
     for (const auto& sc_ : scenarios) suite_names.push_back(sc_.name);
     std::optional<sc::Shard> shard;
     if (!cli.shard.empty()) {
@@ -143,6 +144,7 @@ int run_suite(const ScenarioCli& cli) {
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
         std::vector<char*> argv;
+        argv.reserve(args.size() + 1);
         for (auto& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
         posix_spawn_file_actions_t actions;

@@ -482,6 +482,7 @@ private:
         hs::validate(c);
         const hs::SimResult sim = hs::simulate(c);
         std::vector<Point2> logged;
+        logged.reserve(log.size());
         for (const auto& p : log) logged.push_back({p.x_m, p.y_m});
         const PairMetrics m = compare_tracks(logged, sim_track(sim, c, logged.size()));
         if (m.rms_m > e.max_rms_m || (e.max_endpoint_m && m.endpoint_m > *e.max_endpoint_m)) {
