@@ -336,7 +336,7 @@ bool follows_call_to(const AvrCore& core, uint32_t ret_byte, uint32_t target_byt
     if (ret_byte >= 2) {
         const uint16_t w = core.flash_word(ret_byte - 2);
         if ((w & 0xF000) == 0xD000) {  // RCALL k: 1101 kkkk kkkk kkkk, k signed words
-            int32_t k = w & 0x0FFF;
+            int64_t k = w & 0x0FFF;
             if (k & 0x0800) k -= 0x1000;
             if (static_cast<int64_t>(ret_byte) + 2 * k == target_byte) return true;
         }

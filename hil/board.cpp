@@ -1,5 +1,6 @@
 #include "hil/board.hpp"
 
+#include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
 #include <map>
@@ -87,9 +88,9 @@ void validate(const BoardWiring& board, const std::string& source) {
         const std::string motor = "motor" + std::to_string(m + 1);
         claim(board.motor[m].enable_pin, motor + ".enable_pin");
         if (!uno_pwm_channel(board.motor[m].enable_pin)) {
-            throw std::invalid_argument(source + ": board." + motor + ".enable_pin = " +
-                                        std::to_string(board.motor[m].enable_pin) +
-                                        ": not a phase-correct PWM pin (3, 9, 10 or 11)");
+            throw std::invalid_argument(fmt::format("{}: board.{}.enable_pin = {}: not a phase-correct PWM pin "
+                                                    "(3, 9, 10 or 11)",
+                                                    source, motor, board.motor[m].enable_pin));
         }
         claim(board.motor[m].direction_pin, motor + ".direction_pin");
     }
@@ -130,7 +131,7 @@ std::optional<BoardWiring> load_board_section(const std::filesystem::path& path)
         const auto i = static_cast<std::size_t>(index);
         for (const auto& field : body) {
             const std::string key = field.first.as<std::string>();
-            const std::string full = part + "." + key;
+            const std::string full = fmt::format("{}.{}", part, key);
             if (is_motor && key == "enable_pin") {
                 board.motor[i].enable_pin = read_pin(field.second, full, source);
             } else if (is_motor && key == "direction_pin") {

@@ -42,7 +42,7 @@ std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sam
     std::vector<EepromLogSample> out;
     out.reserve(n);
     for (int k = 0; k < sample_count; ++k) {
-        const auto x_addr = static_cast<std::size_t>(k * eeprom_log::kAddressStride);
+        const auto x_addr = static_cast<std::size_t>(k) * eeprom_log::kAddressStride;
         const auto y_addr = x_addr + eeprom_log::kYOffset;
         EepromLogSample s;
         s.sample = k;

@@ -118,7 +118,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
             if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
             const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
             const std::size_t n = std::min<std::size_t>(
-                d->d_size, (atmega328p::kVectorCount + 1) * atmega328p::kVectorBytes);
+                d->d_size, std::size_t{atmega328p::kVectorCount + 1} * std::size_t{atmega328p::kVectorBytes});
             img.vector_table_.assign(bytes, bytes + n);
         } else if (sname == ".data") {
             img.memory_.data_bytes = static_cast<uint32_t>(shdr.sh_size);
@@ -198,7 +198,7 @@ void ElfImage::require_atmega328p() const {
     }
     // The ATmega328P has 26 vectors of one JMP each. An avr5 part with a larger
     // table (ATmega16x4, ATmega32U4, ...) has a JMP in slot 26 as well.
-    const std::size_t table = atmega328p::kVectorCount * atmega328p::kVectorBytes;
+    const std::size_t table = std::size_t{atmega328p::kVectorCount} * std::size_t{atmega328p::kVectorBytes};
     if (vector_table_.size() < table) fail(path_, "too short for an ATmega328P vector table");
     for (std::size_t v = 0; v < atmega328p::kVectorCount; ++v) {
         if (!is_jmp(&vector_table_[v * atmega328p::kVectorBytes])) {

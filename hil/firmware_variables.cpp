@@ -48,6 +48,17 @@ std::size_t var_type_size(VarType type) {
     return 0;
 }
 
+std::optional<VarType> default_var_type(std::size_t size_bytes, FourByteDefault four_bytes) {
+    switch (size_bytes) {
+        case 1: return VarType::kUint8;
+        case 2: return VarType::kInt16;
+        case 4:
+            if (four_bytes == FourByteDefault::kFloat) return VarType::kFloat;
+            return std::nullopt;
+        default: return std::nullopt;
+    }
+}
+
 double decode_var(VarType type, const std::array<uint8_t, 4>& bytes) {
     switch (type) {
         case VarType::kInt8: return decode_le<int8_t>(bytes);

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -43,6 +44,18 @@ VarType parse_var_type(std::string_view text);
 const char* to_string(VarType type);
 /// Bytes the type occupies on the AVR: 1, 2 or 4.
 std::size_t var_type_size(VarType type);
+
+/// What a 4-byte global is taken for when no type is given: the symbol table
+/// cannot tell a long from a float. kFloat suits the reference sketch, whose
+/// 4-byte globals are floats (`run --trace`); kNone makes the caller ask for
+/// the type (a scenario's `expect-var`, where a wrong guess passes or fails a
+/// check silently).
+enum class FourByteDefault { kFloat, kNone };
+
+/// The type of a `size_bytes`-byte global when none is given: 1 byte uint8,
+/// 2 bytes int16 (avr-gcc's int), 4 bytes float or none per `four_bytes`;
+/// std::nullopt when the size does not decide it.
+std::optional<VarType> default_var_type(std::size_t size_bytes, FourByteDefault four_bytes);
 
 // The firmware's float is binary32 and is decoded by copying its bits into a
 // host float: that needs the host's float to be binary32 too.

@@ -22,7 +22,7 @@ std::optional<uint32_t> vector_target(const AvrCore& core, int vector) {
         return k * 2;
     }
     if ((w0 & 0xF000) == 0xC000) {  // RJMP k: 1100 kkkk kkkk kkkk, k signed words
-        int32_t k = w0 & 0x0FFF;
+        int64_t k = w0 & 0x0FFF;
         if (k & 0x0800) k -= 0x1000;
         return static_cast<uint32_t>(static_cast<int64_t>(at) + 2 + 2 * k);
     }

@@ -1,6 +1,8 @@
 // VcdWriter: buffered, time-ordered value-change dump (see vcd_writer.hpp).
 #include "hil/vcd_writer.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <charconv>
 #include <stdexcept>
@@ -11,7 +13,7 @@ namespace {
 
 constexpr uint64_t kNsPerS = 1'000'000'000;
 /// Text kept before it is handed to the sink [bytes].
-constexpr std::size_t kChunkBytes = 64 * 1024;
+constexpr std::size_t kChunkBytes = std::size_t{64} * 1024;
 /// Printable identifier characters: '!' (33) .. '~' (126).
 constexpr std::size_t kIdAlphabet = 94;
 
@@ -72,7 +74,7 @@ VcdWriter::SignalId VcdWriter::add(const std::string& scope, const std::string& 
     }
     for (const Signal& s : signals_) {
         if (s.scope == scope && s.name == name) {
-            throw std::invalid_argument("VcdWriter: signal '" + scope + "." + name + "' declared twice");
+            throw std::invalid_argument(fmt::format("VcdWriter: signal '{}.{}' declared twice", scope, name));
         }
     }
     signals_.push_back(Signal{scope, name, width, initial & width_mask(width), identifier(signals_.size())});

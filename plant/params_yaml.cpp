@@ -42,7 +42,8 @@ void read_section(const YAML::Node& map, const std::string& section, P& part,
     }
     for (const auto& kv : map) {
         const std::string key = kv.first.as<std::string>();
-        const std::string name = section + "." + key;
+        std::string name = section;
+        name.append(".").append(key);
         const Field<P>* field = nullptr;
         for (const Field<P>& f : table) {
             if (key == f.key) field = &f;
@@ -52,7 +53,8 @@ void read_section(const YAML::Node& map, const std::string& section, P& part,
         }
         const YAML::Node& value = kv.second;
         const std::string text = scalar_text(value);
-        const std::string at = where(source, value.Mark()) + ": " + name + ": invalid value '" + text + "'";
+        std::string at = where(source, value.Mark());
+        at.append(": ").append(name).append(": invalid value '").append(text).append("'");
         bool ok = false;
         std::visit(
             [&](auto m) {

@@ -42,7 +42,7 @@ struct PhaseCorrectPwm {
         return static_cast<std::uint8_t>(std::lround(d * 255.0));
     }
     /// High cycles per period: 2 x OCR x 64.
-    [[nodiscard]] constexpr std::int64_t on_cycles() const { return 2 * ocr * kPrescaler; }
+    [[nodiscard]] constexpr std::int64_t on_cycles() const { return std::int64_t{2} * ocr * kPrescaler; }
     /// Fraction of the period spent high: OCR / 255.
     [[nodiscard]] constexpr double duty() const { return static_cast<double>(ocr) / 255.0; }
 

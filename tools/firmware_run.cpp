@@ -25,6 +25,7 @@
 #include "hil/loop_tracer.hpp"
 #include "hil/torn_read_detector.hpp"
 #include "hil/robot_rig.hpp"
+#include "hil/run_failure.hpp"
 #include "hil/stack_guard.hpp"
 #include "hil/vcd_recorder.hpp"
 
@@ -172,14 +173,12 @@ hil::TracedVariable parse_trace_spec(const std::string& spec, const hil::ElfImag
     }
     const auto sym = elf.find(v.name);
     if (!sym) throw std::invalid_argument("--trace '" + spec + "': firmware has no symbol '" + v.name + "'");
-    switch (sym->size) {
-        case 1: v.type = hil::VarType::kUint8; break;
-        case 2: v.type = hil::VarType::kInt16; break;
-        case 4: v.type = hil::VarType::kFloat; break;
-        default:
-            throw std::invalid_argument("--trace '" + spec + "': '" + v.name + "' has " + std::to_string(sym->size) +
-                                        " bytes; give its type as name:type");
+    const auto type = hil::default_var_type(sym->size, hil::FourByteDefault::kFloat);
+    if (!type) {
+        throw std::invalid_argument("--trace '" + spec + "': '" + v.name + "' has " + std::to_string(sym->size) +
+                                    " bytes; give its type as name:type");
     }
+    v.type = *type;
     return v;
 }
 
@@ -211,6 +210,18 @@ uint64_t on_wall_check(struct avr_t* /*avr*/, uint64_t when, void* param) {
         return 0;
     }
     return when + g->period;
+}
+
+RunExit run_exit_of(hil::FailureKind kind) {
+    switch (kind) {
+        case hil::FailureKind::kStackOverflow: return RunExit::kStackOverflow;
+        case hil::FailureKind::kPlantFailed: return RunExit::kPlantFailed;
+        case hil::FailureKind::kCrashed: return RunExit::kCrashed;
+        case hil::FailureKind::kSleepForever: return RunExit::kSleepForever;
+        case hil::FailureKind::kWatchdogReset: return RunExit::kWatchdogReset;
+        case hil::FailureKind::kSimavrError: return RunExit::kSimavrError;
+    }
+    return RunExit::kCrashed;
 }
 
 hil::RigConfig rig_config(const FirmwareRunOptions& o) {
@@ -517,59 +528,26 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     } else if (killed()) {
         result.exit = RunExit::kKilledByDebugger;
         result.message = fmt::format("killed by the debugger at cycle {} (t = {:.6f} s)", core.cycle(), sim_s);
-    } else if (stack_guard.overflow()) {
-        const hil::StackOverflow& o = *stack_guard.overflow();
-        result.exit = RunExit::kStackOverflow;
-        result.message = fmt::format("stack overflow into .bss at cycle {} (SP 0x{:04x} below the end of .bss 0x{:04x})",
-                                     o.cycle, o.sp, o.bss_end);
-    } else if (rig.coupler().status() != plant::StepStatus::ok) {
-        result.exit = RunExit::kPlantFailed;
-        const plant::Pose& p = rig.robot().pose();
-        result.message = fmt::format("plant {} at t={:.6f} s (last finite pose x={:.6g} m, y={:.6g} m)",
-                                     plant::to_string(rig.coupler().status()),
-                                     rig.coupler().failed_at_s(), p.x_m, p.y_m);
-    } else {
-        switch (stop) {
-            case hil::RunStop::kCondition:
-                if (parser.error()) {
-                    result.exit = RunExit::kReportMalformed;
-                    result.message = *parser.error();
-                } else {
-                    result.exit = RunExit::kReportComplete;
-                }
-                break;
-            case hil::RunStop::kCrashed:
-                result.exit = RunExit::kCrashed;
-                result.message = fmt::format("firmware crashed at PC 0x{:04x}, cycle {} (t = {:.6f} s)",
-                                             core.pc(), core.cycle(), sim_s);
-                break;
-            case hil::RunStop::kDone:
-                result.exit = RunExit::kSleepForever;
-                result.message = fmt::format(
-                    "firmware went to sleep with interrupts off at PC 0x{:04x}, cycle {}", core.pc(),
-                    core.cycle());
-                break;
-            case hil::RunStop::kWatchdogReset:
-                result.exit = RunExit::kWatchdogReset;
-                result.message = fmt::format("watchdog reset at cycle {} (t = {:.6f} s)", core.cycle(), sim_s);
-                break;
-            case hil::RunStop::kSimavrError:
-                result.exit = RunExit::kSimavrError;
-                result.message = fmt::format("simavr error at PC 0x{:04x}, cycle {}: {}", core.pc(), core.cycle(),
-                                             core.log().first_error());
-                break;
-            case hil::RunStop::kReachedCycle:
-                result.exit = RunExit::kTimeout;
-                result.message =
-                    result.ready_cycle
-                        ? fmt::format("timeout after {} simulated s: the firmware's report was not "
-                                      "complete (raise --seconds?)",
-                                      options.max_sim_seconds)
-                        : fmt::format("timeout after {} simulated s: the firmware never returned from "
-                                      "'{}', so the case byte was never sent",
-                                      options.max_sim_seconds, options.ready_symbol);
-                break;
+    } else if (const auto failure = hil::describe_run_failure(hil::observe_run_end(stop, rig, stack_guard),
+                                                              hil::FailureWording::kStandalone)) {
+        result.exit = run_exit_of(failure->kind);
+        result.message = failure->message;
+    } else if (stop == hil::RunStop::kCondition) {
+        if (parser.error()) {
+            result.exit = RunExit::kReportMalformed;
+            result.message = *parser.error();
+        } else {
+            result.exit = RunExit::kReportComplete;
         }
+    } else {  // kReachedCycle
+        result.exit = RunExit::kTimeout;
+        result.message = result.ready_cycle
+                             ? fmt::format("timeout after {} simulated s: the firmware's report was not "
+                                           "complete (raise --seconds?)",
+                                           options.max_sim_seconds)
+                             : fmt::format("timeout after {} simulated s: the firmware never returned from "
+                                           "'{}', so the case byte was never sent",
+                                           options.max_sim_seconds, options.ready_symbol);
     }
 
     // A gdb still attached and waiting learns that the program exited, with

@@ -9,7 +9,6 @@
 #include <set>
 
 #include "common/atomic_file.hpp"
-#include "scenario/junit.hpp"
 #include "scenario/suite_results.hpp"
 #include "sweep_merge.hpp"
 
@@ -65,6 +64,7 @@ int run_merge(const MergeCli& cli) {
         }
     }
     std::vector<sc::ScenarioResult> all;
+    all.reserve(suite->size());
     for (const auto& name : *suite) all.push_back(sc::read_scenario_result(folder_of.at(name)));
     const fs::path out = cli.out_dir;
     prepare_output_dir(out);
@@ -72,10 +72,7 @@ int run_merge(const MergeCli& cli) {
         fs::remove_all(out / name);
         fs::copy(folder_of.at(name), out / name, fs::copy_options::recursive);
     }
-    write_file_atomic(out / "results.json", sc::suite_results_json(all).dump(2) + "\n");
-    if (!cli.junit.empty()) write_file_atomic(cli.junit, sc::junit_xml("ddmr-hil scenarios", all));
-    sc::print_verdicts(all);
-    return sc::suite_exit_code(all);
+    return sc::finish_suite(all, out, cli.junit);
 }
 
 }  // namespace

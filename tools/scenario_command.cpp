@@ -22,7 +22,6 @@
 #include "exit_codes.hpp"
 #include "hil/avr_core.hpp"
 #include "hil/elf_image.hpp"
-#include "scenario/junit.hpp"
 #include "scenario/scenario_runner.hpp"
 #include "scenario/scenario_yaml.hpp"
 #include "scenario/sketch_build.hpp"
@@ -118,6 +117,7 @@ int run_suite(const ScenarioCli& cli) {
     }
     // --shard I/N keeps every N-th scenario of the suite's order, from the I-th.
     std::vector<std::string> suite_names;
+    suite_names.reserve(scenarios.size());
     for (const auto& sc_ : scenarios) suite_names.push_back(sc_.name);
     std::optional<sc::Shard> shard;
     if (!cli.shard.empty()) {
@@ -148,6 +148,7 @@ int run_suite(const ScenarioCli& cli) {
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
         std::vector<char*> argv;
+        argv.reserve(args.size() + 1);
         for (auto& a : args) argv.push_back(a.data());
         argv.push_back(nullptr);
         posix_spawn_file_actions_t actions;
@@ -196,17 +197,15 @@ int run_suite(const ScenarioCli& cli) {
         std::fprintf(stderr, "  done %-28s %s (%.1f s wall)\n", r.name.c_str(), sc::to_string(r.verdict), wall);
     }
 
-    // Verdicts in the order given, and the combined result.
-    std::vector<sc::ScenarioResult> all;
-    for (auto& r : results) all.push_back(*r);
-    sc::print_verdicts(all);
-    write_file_atomic(out / "results.json", sc::suite_results_json(all).dump(2) + "\n");
     if (shard) {
         write_file_atomic(out / "shard.json",
                           json{{"shard", shard->text()}, {"suite", suite_names}}.dump(2) + "\n");
     }
-    if (!cli.junit.empty()) write_file_atomic(cli.junit, sc::junit_xml("ddmr-hil scenarios", all));
-    return sc::suite_exit_code(all);
+    // Verdicts in the order given, and the combined result.
+    std::vector<sc::ScenarioResult> all;
+    all.reserve(results.size());
+    for (auto& r : results) all.push_back(*r);
+    return sc::finish_suite(all, out, cli.junit);
 }
 
 }  // namespace

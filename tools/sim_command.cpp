@@ -151,7 +151,7 @@ std::string eeprom_csv(const hs::SimResult& r) {
         hil::EepromImage image = hil::EepromPort::erased();
         std::vector<double> times;
         for (const hs::EepromLogEntry& e : r.eeprom_log) {
-            const auto addr = static_cast<std::size_t>(e.sample * hil::eeprom_log::kAddressStride);
+            const auto addr = static_cast<std::size_t>(e.sample) * hil::eeprom_log::kAddressStride;
             image[addr] = e.x_byte;
             image[addr + hil::eeprom_log::kYOffset] = e.y_byte;
             times.push_back(e.t_s);

@@ -121,6 +121,7 @@ SweepPlan plan_of(const SweepCli& o) {
 /// stderr to /dev/null.
 int run_process(std::vector<std::string> argv, bool quiet) {
     std::vector<char*> args;
+    args.reserve(argv.size() + 1);
     for (std::string& a : argv) args.push_back(a.data());
     args.push_back(nullptr);
     posix_spawn_file_actions_t actions;

@@ -54,6 +54,18 @@ TEST(FirmwareVariables, ParsesTypeNames) {
     EXPECT_NE(msg.find("'int'"), std::string::npos) << msg;
 }
 
+TEST(FirmwareVariables, DefaultTypeBySymbolSize) {
+    using hil::FourByteDefault;
+    // avr-gcc: char 1 byte, int 2, long and float 4.
+    EXPECT_EQ(hil::default_var_type(1, FourByteDefault::kNone), VarType::kUint8);
+    EXPECT_EQ(hil::default_var_type(2, FourByteDefault::kNone), VarType::kInt16);
+    EXPECT_EQ(hil::default_var_type(4, FourByteDefault::kFloat), VarType::kFloat);
+    EXPECT_EQ(hil::default_var_type(4, FourByteDefault::kNone), std::nullopt);  // long or float?
+    for (const std::size_t size : {std::size_t{0}, std::size_t{3}, std::size_t{8}}) {
+        EXPECT_EQ(hil::default_var_type(size, FourByteDefault::kFloat), std::nullopt) << size;
+    }
+}
+
 TEST(FirmwareVariables, ReadsTheSketchGlobalsAfterBoot) {
     // After 0.1 s the firmware is inside setup()'s delay(5000): static
     // initialisation and setup() have run. Globals in the ELF (avr-nm -S):

@@ -96,6 +96,13 @@ std::vector<Study> make_studies() {
     return s;
 }
 
+/// "unknown study 'x' (known: fig5_2, ..., all)"
+std::string unknown_study_message(const std::string& id, const std::vector<Study>& all) {
+    std::string known;
+    for (const Study& s : all) known += (known.empty() ? "" : ", ") + s.id;
+    return "unknown study '" + id + "' (known: " + known + ", all)";
+}
+
 }  // namespace
 
 const char* to_string(SweptGain g) {
@@ -123,11 +130,7 @@ std::vector<Study> select_studies(const std::string& ids) {
         const std::string id = ids.substr(begin, comma - begin);
         begin = comma + 1;
         const auto it = std::find_if(all.begin(), all.end(), [&](const Study& s) { return s.id == id; });
-        if (it == all.end()) {
-            std::string known;
-            for (const Study& s : all) known += (known.empty() ? "" : ", ") + s.id;
-            throw std::invalid_argument("unknown study '" + id + "' (known: " + known + ", all)");
-        }
+        if (it == all.end()) throw std::invalid_argument(unknown_study_message(id, all));
         const bool seen =
             std::any_of(chosen.begin(), chosen.end(), [&](const Study& s) { return s.id == id; });
         if (!seen) chosen.push_back(*it);

@@ -23,6 +23,7 @@
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_profiler.hpp"
 #include "hil/robot_rig.hpp"
+#include "hil/run_failure.hpp"
 #include "hil/serial_line.hpp"
 #include "hil/stack_guard.hpp"
 #include "hil/torn_read_detector.hpp"
@@ -89,13 +90,12 @@ PinRegs uno_pin_regs(int pin) {
 hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
     const auto sym = elf.find(name);
     if (!sym) throw StepFailed{Verdict::kFail, fmt::format("the firmware has no symbol '{}'", name)};
-    switch (sym->size) {
-        case 1: return hil::VarType::kUint8;
-        case 2: return hil::VarType::kInt16;
-        default:  // 4 bytes: long or float, the symbol table cannot tell
-            throw StepFailed{Verdict::kFail, fmt::format("'{}' has {} bytes: give its type (type: int32, uint32 or float)",
-                                                         name, sym->size)};
+    const auto type = hil::default_var_type(sym->size, hil::FourByteDefault::kNone);
+    if (!type) {
+        throw StepFailed{Verdict::kFail, fmt::format("'{}' has {} bytes: give its type (type: int32, uint32 or float)",
+                                                     name, sym->size)};
     }
+    return *type;
 }
 
 class Session {
@@ -276,33 +276,10 @@ private:
             Cycles next = std::min(target, s_.timeout);
             if (!timed_.empty()) next = std::min(next, std::max(timed_.front().first, core().cycle()));
             const hil::RunStop stop = next > core().cycle() ? core().run_until(next) : hil::RunStop::kReachedCycle;
-            if (rig_->coupler().status() != plant::StepStatus::ok) {
-                const plant::Pose& p = rig_->robot().pose();
-                throw StepFailed{Verdict::kFirmware,
-                                 fmt::format("plant {} at t={:.6f} s (last finite pose x={:.6g} m, y={:.6g} m)",
-                                             plant::to_string(rig_->coupler().status()), rig_->coupler().failed_at_s(),
-                                             p.x_m, p.y_m)};
-            }
-            if (stop == hil::RunStop::kCrashed) {
-                throw StepFailed{Verdict::kFirmware, fmt::format("crashed at PC 0x{:04x}, cycle {}", core().pc(), core().cycle())};
-            }
-            if (stack_guard_->overflow()) {
-                const hil::StackOverflow& o = *stack_guard_->overflow();
-                throw StepFailed{Verdict::kFirmware,
-                                 fmt::format("stack overflow into .bss at cycle {} (SP 0x{:04x} below the end of .bss "
-                                             "0x{:04x})", o.cycle, o.sp, o.bss_end)};
-            }
-            if (stop == hil::RunStop::kWatchdogReset) {
-                throw StepFailed{Verdict::kFirmware, fmt::format("watchdog reset at cycle {}", core().cycle())};
-            }
-            if (stop == hil::RunStop::kSimavrError) {
-                throw StepFailed{Verdict::kFirmware, fmt::format("simavr error at PC 0x{:04x}, cycle {}: {}", core().pc(),
-                                                                 core().cycle(), core().log().first_error())};
-            }
-            if (stop == hil::RunStop::kDone) {
-                throw StepFailed{Verdict::kFirmware,
-                                 fmt::format("the firmware slept with interrupts off at PC 0x{:04x}, cycle {}", core().pc(),
-                                             core().cycle())};
+            // The step's failure line gives the time: the short wording.
+            if (const auto failure = hil::describe_run_failure(hil::observe_run_end(stop, *rig_, *stack_guard_),
+                                                               hil::FailureWording::kInStep)) {
+                throw StepFailed{Verdict::kFirmware, failure->message};
             }
             if (halt_ == Halt::kFailSerial) throw StepFailed{Verdict::kFail, halt_message_};
             clear_stop();
@@ -516,6 +493,7 @@ private:
         hs::validate(c);
         const hs::SimResult sim = hs::simulate(c);
         std::vector<Point2> logged;
+        logged.reserve(log.size());
         for (const auto& p : log) logged.push_back({p.x_m, p.y_m});
         const PairMetrics m = compare_tracks(logged, sim_track(sim, c, logged.size()));
         if (m.rms_m > e.max_rms_m || (e.max_endpoint_m && m.endpoint_m > *e.max_endpoint_m)) {

@@ -167,7 +167,7 @@ fs::path inside_folder(const Ctx& c) {
                            "(give other files on the command line)", text));
     }
     const fs::path folder = fs::absolute(c.file()).parent_path().lexically_normal();
-    const fs::path full = (folder / p).lexically_normal();
+    fs::path full = (folder / p).lexically_normal();  // not const: returned by move
     const auto rel = full.lexically_relative(folder);
     if (rel.empty() || *rel.begin() == "..") {
         c.fail(fmt::format("'{}' leaves the scenario's folder {}", text, folder.string()));

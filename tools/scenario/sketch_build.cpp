@@ -35,6 +35,7 @@ namespace {
 /// Runs `args` (no shell) with stdout and stderr into `log`; its exit status.
 int run_logged(std::vector<std::string> args, const fs::path& log) {
     std::vector<char*> argv;
+    argv.reserve(args.size() + 1);
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     posix_spawn_file_actions_t actions;
@@ -62,7 +63,7 @@ fs::path build_sketch(const fs::path& ino, const fs::path& cache) {
                                              ino.string(), stem, stem));
     }
     const fs::path entry = cache / sha256_file_hex(ino);
-    const fs::path elf = entry / (stem + ".elf");
+    fs::path elf = entry / (stem + ".elf");  // not const: returned by move
     if (fs::is_regular_file(elf)) return elf;
 
     fs::create_directories(cache);

@@ -8,7 +8,9 @@
 #include <regex>
 #include <stdexcept>
 
+#include "common/atomic_file.hpp"
 #include "exit_codes.hpp"
+#include "scenario/junit.hpp"
 
 namespace ddmr::tools::scenario {
 namespace fs = std::filesystem;
@@ -84,6 +86,13 @@ void print_verdicts(const std::vector<ScenarioResult>& results) {
     const auto passed = std::count_if(results.begin(), results.end(),
                                       [](const ScenarioResult& r) { return r.verdict == Verdict::kPass; });
     std::printf("%zd of %zu scenario(s) passed\n", passed, results.size());
+}
+
+int finish_suite(const std::vector<ScenarioResult>& results, const fs::path& out_dir, const fs::path& junit_path) {
+    print_verdicts(results);
+    write_file_atomic(out_dir / "results.json", suite_results_json(results).dump(2) + "\n");
+    if (!junit_path.empty()) write_file_atomic(junit_path, junit_xml("ddmr-hil scenarios", results));
+    return suite_exit_code(results);
 }
 
 }  // namespace ddmr::tools::scenario

@@ -46,4 +46,11 @@ int suite_exit_code(const std::vector<ScenarioResult>& results);
 /// One line per scenario (and per failure) on stdout, then the count.
 void print_verdicts(const std::vector<ScenarioResult>& results);
 
+/// The end of a suite run, the same for `scenario` and `merge`: the verdicts
+/// on stdout (print_verdicts), `out_dir`/results.json, JUnit XML at
+/// `junit_path` unless it is empty; returns the process exit code
+/// (suite_exit_code). `out_dir` must exist.
+int finish_suite(const std::vector<ScenarioResult>& results, const std::filesystem::path& out_dir,
+                 const std::filesystem::path& junit_path);
+
 }  // namespace ddmr::tools::scenario
