@@ -111,6 +111,17 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
         const char* name = elf_strptr(elf.get(), shstrndx, shdr.sh_name);
         if (name == nullptr) fail(path, "corrupt section name table");
         const std::string sname(name);
+        // simavr's loader picks sections by name: a name it knows on a section
+        // that holds no program bytes (e.g. a symbol table called .data) makes
+        // it read that section as code or data (found by tests/fuzz).
+        const bool loaded = sname == ".text" || sname == ".data" || sname == ".bss" ||
+                            sname == ".eeprom" || sname == ".fuse" || sname == ".lock" ||
+                            sname == ".mmcu";
+        if (loaded && shdr.sh_type != SHT_PROGBITS && shdr.sh_type != SHT_NOBITS) {
+            fail(path, "corrupt section table: section " + std::to_string(elf_ndxscn(scn)) + " is called '" +
+                           sname + "' but has type " + std::to_string(shdr.sh_type) +
+                           ", not program data");
+        }
         if (sname == ".text") {
             img.memory_.text_bytes = static_cast<uint32_t>(shdr.sh_size);
             img.text_address_ = static_cast<uint32_t>(shdr.sh_addr);

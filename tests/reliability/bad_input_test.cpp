@@ -59,6 +59,11 @@ std::vector<Case> firmware_cases() {
     cases.push_back({"LoaderPastFlash", "past.elf",
                      read_bytes(source_dir() / "tests/fuzz/corpus/elf_loader/regression-loader-past-flash.elf"),
                      "--firmware", "past the ATmega328P's 32768-byte flash"});
+    // Another: the symbol table's section is called .data, which simavr's
+    // loader would read as program data (and crash on its nameless symbols).
+    cases.push_back({"SymbolTableCalledData", "symtab.elf",
+                     read_bytes(source_dir() / "tests/fuzz/corpus/elf_loader/regression-symtab-named-data.elf"),
+                     "--firmware", "is called '.data' but has type 2, not program data"});
     return cases;
 }
 
