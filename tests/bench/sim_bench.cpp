@@ -1,5 +1,5 @@
 // Host reference simulation cost: 12 s of case 1 (the 0.6 m circle) at the
-// default plant step (2e-5 s), per model. The goal is "well under a second".
+// default plant step (1e-4 s), per model. The goal is "well under a second".
 #include <benchmark/benchmark.h>
 
 #include "tools/hostsim/host_sim.hpp"

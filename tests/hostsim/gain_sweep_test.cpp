@@ -240,8 +240,8 @@ TEST(GainSweep, WithKx0TheStepInXNeverDecays) {
 // v_g - (v_g + K_x x_e) = -K_x x_e, so x_e = 0.2 e^{-K_x (t - 10)}:
 // 0.2 / e = 0.073576 m at t = 11 s; inside the 2 cm band from
 // t - 10 = ln(10) / K_x = 2.3026 s, i.e. the sample at 12.31 s (12.30 s
-// still has 0.02005 m). The control holds each command for a 2e-5 s step:
-// (1 - 2e-5)^50000 = e^{-1} (1 - 1e-5), well inside 1e-5.
+// still has 0.02005 m). The control holds each command for a 1e-4 s step:
+// (1 - 1e-4)^10000 = e^{-1} (1 - 5e-5), i.e. 0.2 e^{-1} 5e-5 = 3.7e-6 m, inside 1e-5.
 TEST(GainSweep, WithKx1TheStepInXDecaysAsExpMinusT) {
     const SimResult r = run_study(study("fig5_2"), kinematic_base())[1];  // K_x = 1
     EXPECT_NEAR(at(r, 11.0).goal_x_m - at(r, 11.0).x_m, 0.2 * std::exp(-1.0), 1e-5);

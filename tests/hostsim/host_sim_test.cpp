@@ -86,7 +86,7 @@ TEST(HostSim, IdealLogsTheTruePoseEveryTenthOfASecondUnquantised) {
 // eq. (16): with the kinematic plant (the robot moves at the commanded v, w
 // at once) and the goal's true velocities as feed-forward (v_g = R w > 0),
 // eq. (15) never increases. The only departure allowed is the zero-order hold
-// of the command over a 2e-5 s step (O(h^2) per step).
+// of the command over a 1e-4 s step (O(h^2) per step).
 TEST(HostSim, LyapunovNonIncreasingWithTheKinematicPlant) {
     for (const CaseSpec& cs : {circle_case(0.6, 12.0), circle_case(0.4, 8.0)}) {
         SimConfig c = config_for_case(1, Model::ideal);
