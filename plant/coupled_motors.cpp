@@ -208,7 +208,6 @@ double CoupledMotorStepper::advance(std::array<DcMotorState, 2>& x,
         x[m].speed_rad_s = x1(i + 1);
         x[m].angle_rad += integral(i + 1);
     }
-    seg.end = x;
     supply_charge_C = u[0].supply_factor * integral(0) + u[1].supply_factor * integral(2);
     return t_event;
 }

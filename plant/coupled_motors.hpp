@@ -59,7 +59,6 @@ CoupledTerminal coupled_terminal(const MotorTerminal& u, double current_A);
 struct CoupledSegment {
     double duration_s = 0.0;
     std::array<DcMotorState, 2> start{};
-    std::array<DcMotorState, 2> end{};
     Eigen::Vector4d x_ss = Eigen::Vector4d::Zero();  ///< -A^{-1} b
     Eigen::Vector4d d0 = Eigen::Vector4d::Zero();    ///< x0 - x_ss
     std::size_t config = 0;  ///< which cached decomposition

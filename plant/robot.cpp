@@ -211,15 +211,11 @@ double Robot::joint_substep(double h, EdgeBuffer& edges) {
 }
 
 bool Robot::battery_coupled() const {
+    // Switched mode only (averaged mode never splits a step into pieces).
     if (params_.battery.internal_resistance_ohm == 0.0) return false;
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        const BridgeInput& b = input_.bridge[m];
-        // Averaged at duty 0: shorted by the bridge. Switched, off, no
-        // current: open circuit for the whole step. Either way no supply current.
-        const bool no_supply = input_.mode == DriveMode::averaged
-                                   ? b.duty == 0.0
-                                   : !b.enable && state_.motor[m].current_A == 0.0;
-        if (no_supply) return false;
+        // Bridge off and no current: open circuit, no supply current all step.
+        if (!input_.bridge[m].enable && state_.motor[m].current_A == 0.0) return false;
     }
     return true;
 }

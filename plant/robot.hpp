@@ -137,8 +137,9 @@ class Robot {
     double joint_substep(double h, EdgeBuffer& edges);
     /// Motor by motor, each exact, with the battery coupling held over h.
     bool substep(double h, EdgeBuffer& edges);
-    /// Whether one motor draws no battery current for the whole step (then
-    /// holding its current in the other motor's solution is exact).
+    /// Switched mode: whether neither motor is open-circuit, i.e. both may
+    /// draw battery current during the step (otherwise holding the idle
+    /// motor's zero current in the other motor's solution is exact).
     [[nodiscard]] bool battery_coupled() const;
     /// Pose, time and the finiteness check at the end of an internal step.
     bool finish_substep(const RobotState& before, double h);
