@@ -1,8 +1,6 @@
 #include "scenario_command.hpp"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +17,7 @@
 #include <thread>
 
 #include "common/atomic_file.hpp"
+#include "common/spawn.hpp"
 #include "exit_codes.hpp"
 #include "hil/avr_core.hpp"
 #include "hil/elf_image.hpp"
@@ -26,8 +25,6 @@
 #include "scenario/scenario_yaml.hpp"
 #include "scenario/sketch_build.hpp"
 #include "scenario/suite_results.hpp"
-
-extern char** environ;
 
 namespace ddmr::tools {
 namespace {
@@ -147,18 +144,8 @@ int run_suite(const ScenarioCli& cli) {
         fs::remove(dir / "result.json");
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
-        std::vector<char*> argv;
-        argv.reserve(args.size() + 1);
-        for (auto& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        const std::string out_path = (dir / "stdout.txt").string(), err_path = (dir / "stderr.txt").string();
-        posix_spawn_file_actions_addopen(&actions, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         pid_t pid = 0;
-        const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
-        posix_spawn_file_actions_destroy(&actions);
+        const int rc = spawn_redirected(std::move(args), dir / "stdout.txt", dir / "stderr.txt", pid);
         if (rc != 0) throw std::runtime_error(fmt::format("cannot start a worker for {}: {}", s.file.string(), std::strerror(rc)));
         running[pid] = {i, std::chrono::steady_clock::now(), false};
     };

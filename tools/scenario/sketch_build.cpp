@@ -1,9 +1,6 @@
 #include "scenario/sketch_build.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -14,8 +11,7 @@
 #include <vector>
 
 #include "common/sha256.hpp"
-
-extern char** environ;
+#include "common/spawn.hpp"
 
 namespace ddmr::tools::scenario {
 namespace fs = std::filesystem;
@@ -34,19 +30,8 @@ namespace {
 
 /// Runs `args` (no shell) with stdout and stderr into `log`; its exit status.
 int run_logged(std::vector<std::string> args, const fs::path& log) {
-    std::vector<char*> argv;
-    argv.reserve(args.size() + 1);
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    const std::string log_path = log.string();
-    posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
     pid_t pid = 0;
-    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) return -1;
+    if (spawn_redirected(std::move(args), log, log, pid) != 0) return -1;
     int status = 0;
     waitpid(pid, &status, 0);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
