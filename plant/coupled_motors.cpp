@@ -26,22 +26,6 @@ constexpr double kMaxCondition = 1e8;
 
 }  // namespace
 
-CoupledTerminal coupled_terminal(const MotorTerminal& u, double current_A) {
-    CoupledTerminal c;
-    if (u.kind == MotorTerminal::Kind::driven) {
-        c.supply_factor = u.supply_factor;
-        // voltage_V = s E; with s = 0 the terminal is shorted (E irrelevant).
-        c.emf_V = u.supply_factor != 0.0 ? u.voltage_V / u.supply_factor : 0.0;
-    } else {
-        // Through the diodes the terminal is -sgn(I)(V_b + 2 V_f) and the
-        // battery takes back |I|: s = -sgn(I), E = clamp.
-        c.supply_factor = -sgn(current_A);
-        c.emf_V = u.clamp_V;
-        c.diode = true;
-    }
-    return c;
-}
-
 CoupledMotorStepper::CoupledMotorStepper(const DcMotorParams& motor1, const DcMotorParams& motor2)
     : p_{motor1, motor2} {}
 
@@ -79,14 +63,22 @@ void CoupledMotorStepper::build(Config& c) const {
     const double cond = c.v.cwiseAbs().rowwise().sum().maxCoeff() *
                         c.v_inv.cwiseAbs().rowwise().sum().maxCoeff();
     c.usable = std::isfinite(cond) && cond < kMaxCondition && c.a_inv.allFinite();
+    c.max_imag = c.lambda.imag().cwiseAbs().maxCoeff();
+    c.real_modes = c.max_imag == 0.0;
+    if (c.real_modes) {
+        c.v_real = c.v.real();
+        c.v_inv_real = c.v_inv.real();
+    }
 }
 
 std::size_t CoupledMotorStepper::config_for(double s1, double s2, double rb) {
+    auto matches = [&](const Config& c) { return c.rb == rb && c.s1 == s1 && c.s2 == s2; };
+    if (matches(configs_[last_config_])) return last_config_;
     for (std::size_t k = 0; k < kConfigs; ++k) {
-        const Config& c = configs_[k];
-        if (c.rb == rb && c.s1 == s1 && c.s2 == s2) return k;
+        if (matches(configs_[k])) return last_config_ = k;
     }
     const std::size_t k = next_config_;
+    last_config_ = k;
     next_config_ = (next_config_ + 1) % kConfigs;
     Config& c = configs_[k];
     c.s1 = s1;
@@ -129,9 +121,7 @@ double CoupledMotorStepper::advance(std::array<DcMotorState, 2>& x,
     Config& c = configs_[ci];
     if (!c.usable) return 0.0;
     // Complex eigenvalues: a speed could cross zero more than once in one step.
-    for (Eigen::Index j = 0; j < 4; ++j) {
-        if (std::abs(c.lambda(j).imag()) * h > 3.0) return 0.0;
-    }
+    if (c.max_imag * h > 3.0) return 0.0;
     const std::size_t ti = transition_for(c, h);
 
     Eigen::Vector4d b;
@@ -157,16 +147,19 @@ double CoupledMotorStepper::advance(std::array<DcMotorState, 2>& x,
     };
     double t_event = h;
     Eigen::Index zeroed = -1;  // the state component that reaches 0 at t_event
-    const Eigen::Vector4d dx0 = c.a * x0 + b;
-    const Eigen::Vector4d dx1 = c.a * x1 + b;
     for (std::size_t m = 0; m < 2; ++m) {
         const Eigen::Index i = static_cast<Eigen::Index>(2 * m);
         const double s = w_sign[m];
+        // dw/dt at the start and at the end of the step.
+        const double dw0 = c.a.row(i + 1).dot(x0) + b(i + 1);
+        const double dw1 = c.a.row(i + 1).dot(x1) + b(i + 1);
         double t_w = h + 1.0;
         if (!(s * x1(i + 1) > 0.0)) {
             t_w = find_root(component(i + 1, 0), 0.0, h, s);
-        } else if (s * dx0(i + 1) < 0.0 && s * dx1(i + 1) > 0.0) {
-            // One minimum of s w inside: does it dip through zero?
+        } else if (s * dw0 < 0.0 && s * dw1 > 0.0 && !(s * (x0(i + 1) + dw0 * h) > 0.0)) {
+            // One minimum of s w inside: does it dip through zero? (While s w
+            // falls, its slope rises from s dw0, so s w >= s (w0 + dw0 t):
+            // when that bound stays positive over the step, it cannot.)
             const double te = find_root(component(i + 1, 1), 0.0, h, -s);
             if (!(s * component_at(seg, i + 1, 0, te).first > 0.0)) {
                 t_w = find_root(component(i + 1, 0), 0.0, te, s);
@@ -215,8 +208,14 @@ double CoupledMotorStepper::advance(std::array<DcMotorState, 2>& x,
 void CoupledMotorStepper::resolve_modes(const CoupledSegment& seg) const {
     if (seg.modes_ready) return;
     const Config& c = configs_[seg.config];
-    seg.modes = c.v_inv * seg.d0.cast<std::complex<double>>();
-    seg.coef = c.v * seg.modes.asDiagonal();
+    if (c.real_modes) {
+        const Eigen::Vector4d modes = c.v_inv_real * seg.d0;
+        seg.modes = modes.cast<std::complex<double>>();
+        seg.coef = (c.v_real * modes.asDiagonal()).cast<std::complex<double>>();
+    } else {
+        seg.modes = c.v_inv * seg.d0.cast<std::complex<double>>();
+        seg.coef = c.v * seg.modes.asDiagonal();
+    }
     seg.modes_ready = true;
 }
 

@@ -52,8 +52,23 @@ struct CoupledTerminal {
 /// Converts a MotorTerminal built for a battery of zero internal resistance
 /// (l298_driver.hpp's terminal() with battery_resistance_ohm = 0) and the
 /// motor's current into the coupled form. For an open bridge the supply
-/// factor is -sgn(I): the diode current flows back into the pack.
-CoupledTerminal coupled_terminal(const MotorTerminal& u, double current_A);
+/// factor is -sgn(I): the diode current flows back into the pack. Inline:
+/// it runs twice per plant step.
+inline CoupledTerminal coupled_terminal(const MotorTerminal& u, double current_A) {
+    CoupledTerminal c;
+    if (u.kind == MotorTerminal::Kind::driven) {
+        c.supply_factor = u.supply_factor;
+        // voltage_V = s E; with s = 0 the terminal is shorted (E irrelevant).
+        c.emf_V = u.supply_factor != 0.0 ? u.voltage_V / u.supply_factor : 0.0;
+    } else {
+        // Through the diodes the terminal is -sgn(I)(V_b + 2 V_f) and the
+        // battery takes back |I|: s = -sgn(I), E = clamp.
+        c.supply_factor = current_A > 0.0 ? -1.0 : (current_A < 0.0 ? 1.0 : 0.0);
+        c.emf_V = u.clamp_V;
+        c.diode = true;
+    }
+    return c;
+}
 
 /// One joint step: both motors' exact trajectory over [0, duration_s].
 struct CoupledSegment {
@@ -102,11 +117,15 @@ class CoupledMotorStepper {
     struct Config {
         double s1 = 0.0, s2 = 0.0, rb = -1.0;  ///< key; rb < 0: unused slot
         bool usable = false;                   ///< eigendecomposition well conditioned
+        bool real_modes = false;               ///< all eigenvalues real (the usual case)
+        double max_imag = 0.0;                 ///< largest |Im lambda| [1/s]
         Eigen::Matrix4d a = Eigen::Matrix4d::Zero();
         Eigen::Matrix4d a_inv = Eigen::Matrix4d::Zero();
         Eigen::Vector4cd lambda = Eigen::Vector4cd::Zero();
         Eigen::Matrix4cd v = Eigen::Matrix4cd::Zero();
         Eigen::Matrix4cd v_inv = Eigen::Matrix4cd::Zero();
+        Eigen::Matrix4d v_real = Eigen::Matrix4d::Zero();      ///< V when real_modes
+        Eigen::Matrix4d v_inv_real = Eigen::Matrix4d::Zero();  ///< V^{-1} when real_modes
         // e^{A h} and A^{-1}(e^{A h} - I) for the last two step lengths.
         std::array<double, 2> h{-1.0, -1.0};
         std::array<Eigen::Matrix4d, 2> e{};
@@ -123,6 +142,7 @@ class CoupledMotorStepper {
     static constexpr std::size_t kConfigs = 8;
     std::array<Config, kConfigs> configs_{};
     std::size_t next_config_ = 0;
+    std::size_t last_config_ = 0;  ///< checked first: the coupling rarely changes
 };
 
 }  // namespace ddmr::plant

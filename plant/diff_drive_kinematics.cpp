@@ -49,3 +49,62 @@ void advance_exact_arc(const DiffDriveParams& p, Pose& pose, double right_wheel_
 }
 
 }  // namespace ddmr::plant
+
+namespace ddmr::plant {
+
+namespace {
+/// sin(a) / a and cos(a) for |a| <= kSmallAngle by their series, with the
+/// first omitted term below 5e-18 (relative; a double rounds at 1.1e-16):
+/// up to a^6 when |a| <= 1e-2,
+/// up to a^2 when |a| <= 1e-4 (a straight run: the usual case). No division.
+constexpr double kSmallAngle = 1e-2;
+void small_sinc_cos(double a, double& sinc, double& cos) {
+    constexpr double k2 = 1.0 / 2.0, k6 = 1.0 / 6.0, k12 = 1.0 / 12.0, k20 = 1.0 / 20.0,
+                     k30 = 1.0 / 30.0, k42 = 1.0 / 42.0;
+    const double a2 = a * a;
+    if (a2 <= 1e-8) {
+        sinc = 1.0 - a2 * k6;
+        cos = 1.0 - a2 * k2;
+        return;
+    }
+    sinc = 1.0 - a2 * k6 * (1.0 - a2 * k20 * (1.0 - a2 * k42));
+    cos = 1.0 - a2 * k2 * (1.0 - a2 * k12 * (1.0 - a2 * k30));
+}
+}  // namespace
+
+void advance_exact_arc(const DiffDriveParams& p, Pose& pose, double right_wheel_rad,
+                       double left_wheel_rad, HeadingTrig& trig) {
+    // eqs. (5a), (5b) x dt, with 1/(2L) formed apart from the data (off the
+    // critical path: a division's latency would hold up the whole update).
+    const double inv_axle = 0.5 / p.half_axle_m;
+    const double vr = p.wheel_radius_right_m * right_wheel_rad;
+    const double vl = p.wheel_radius_left_m * left_wheel_rad;
+    const BodyVelocity d{0.5 * (vr + vl), (vr - vl) * inv_axle};
+    const double half = 0.5 * d.omega_rad_s;
+    if (std::abs(half) > kSmallAngle) {
+        advance_exact_arc(p, pose, right_wheel_rad, left_wheel_rad);
+        trig.theta_rad = std::numeric_limits<double>::quiet_NaN();
+        return;
+    }
+    if (!(trig.theta_rad == pose.theta_rad) || trig.steps_since_exact >= HeadingTrig::kExactEvery) {
+        trig.cos = std::cos(pose.theta_rad);
+        trig.sin = std::sin(pose.theta_rad);
+        trig.steps_since_exact = 0;
+    }
+    double chord_factor = 1.0;  // sin(half) / half
+    double ch = 1.0;
+    small_sinc_cos(half, chord_factor, ch);
+    const double sh = half * chord_factor;
+    // Chord = ds sin(half) / half along the mean heading theta + half.
+    const double c_mid = trig.cos * ch - trig.sin * sh;
+    const double s_mid = trig.sin * ch + trig.cos * sh;
+    pose.x_m += d.v_m_s * chord_factor * c_mid;
+    pose.y_m += d.v_m_s * chord_factor * s_mid;
+    pose.theta_rad += d.omega_rad_s;
+    trig.cos = c_mid * ch - s_mid * sh;
+    trig.sin = s_mid * ch + c_mid * sh;
+    trig.theta_rad = pose.theta_rad;
+    ++trig.steps_since_exact;
+}
+
+}  // namespace ddmr::plant

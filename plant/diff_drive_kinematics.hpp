@@ -15,6 +15,7 @@
 // sin(d/2)/(d/2) is evaluated by its series (the straight-line limit).
 
 #include <array>
+#include <limits>
 
 #include "plant/param_spec.hpp"
 
@@ -51,5 +52,23 @@ Pose pose_derivative(const DiffDriveParams& p, const Pose& pose, double right_wh
 /// Moves `pose` along the exact arc for wheel rotations [rad] over a step.
 void advance_exact_arc(const DiffDriveParams& p, Pose& pose, double right_wheel_rad,
                        double left_wheel_rad);
+
+/// cos and sin of the heading, carried from step to step so that a step
+/// rotates them by its (small) turn instead of evaluating sin and cos of the
+/// whole heading. Valid while `theta_rad` equals the pose's heading bit for
+/// bit (anything else, e.g. a changed pose, makes the next step recompute
+/// them); recomputed exactly every kExactEvery steps, so rounding cannot
+/// build up.
+struct HeadingTrig {
+    static constexpr int kExactEvery = 1024;
+    double theta_rad = std::numeric_limits<double>::quiet_NaN();  ///< heading they belong to
+    double cos = 1.0;
+    double sin = 0.0;
+    int steps_since_exact = 0;
+};
+
+/// advance_exact_arc() with the heading's cos and sin carried in `trig`.
+void advance_exact_arc(const DiffDriveParams& p, Pose& pose, double right_wheel_rad,
+                       double left_wheel_rad, HeadingTrig& trig);
 
 }  // namespace ddmr::plant

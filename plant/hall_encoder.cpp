@@ -66,7 +66,7 @@ std::int64_t HallEncoder::index_of(double angle_rad) const {
 void HallEncoder::process(const MotorStepper& motor, const MotorSegment& seg, double step_start_s,
                           double step_end_s, EdgeBuffer& out) {
     process([&](double tau) { return motor.state_at(seg, tau); }, seg.t0_s, seg.duration_s,
-            seg.end.angle_rad, step_start_s, step_end_s, out);
+            seg.start.angle_rad, seg.end.angle_rad, step_start_s, step_end_s, out);
 }
 
 void HallEncoder::emit(double t, double step_start_s, double step_end_s, EdgeBuffer& out) {

@@ -61,11 +61,12 @@ class HallEncoder {
 
     /// The same for any exact solution: `state_at(tau)` is the motor's state
     /// `tau` seconds into a stretch that starts `seg_t0_s` after the step
-    /// start, lasts `seg_duration_s`, ends at `end_angle_rad`, and in which
-    /// the speed keeps its sign.
+    /// start, lasts `seg_duration_s`, turns the shaft from `start_angle_rad`
+    /// to `end_angle_rad`, and in which the speed keeps its sign.
     template <class StateAt>
     void process(const StateAt& state_at, double seg_t0_s, double seg_duration_s,
-                 double end_angle_rad, double step_start_s, double step_end_s, EdgeBuffer& out);
+                 double start_angle_rad, double end_angle_rad, double step_start_s,
+                 double step_end_s, EdgeBuffer& out);
 
     /// Changes the missed-edge probability from now on, [0, 0.5] (throws
     /// std::invalid_argument); the generator keeps its state.
@@ -95,8 +96,8 @@ class HallEncoder {
 
 template <class StateAt>
 void HallEncoder::process(const StateAt& state_at, double seg_t0_s, double seg_duration_s,
-                          double end_angle_rad, double step_start_s, double step_end_s,
-                          EdgeBuffer& out) {
+                          double start_angle_rad, double end_angle_rad, double step_start_s,
+                          double step_end_s, EdgeBuffer& out) {
     if (!std::isfinite(end_angle_rad)) return;  // the robot reports the divergence
     const std::int64_t target = index_of(end_angle_rad);
     if (target == index_) return;
@@ -110,7 +111,11 @@ void HallEncoder::process(const StateAt& state_at, double seg_t0_s, double seg_d
             const DcMotorState s = state_at(tau);
             return std::pair<double, double>{s.angle_rad - angle, s.speed_rad_s};
         };
-        const double tau = find_root(f, 0.0, seg_duration_s, dir > 0 ? -1.0 : 1.0);
+        // First guess: the shaft turning at a constant rate over the stretch
+        // (Newton then corrects for the change of speed).
+        const double guess =
+            seg_duration_s * (angle - start_angle_rad) / (end_angle_rad - start_angle_rad);
+        const double tau = find_root(f, 0.0, seg_duration_s, dir > 0 ? -1.0 : 1.0, guess);
         emit(step_start_s + seg_t0_s + tau, step_start_s, step_end_s, out);
     }
 }

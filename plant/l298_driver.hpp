@@ -16,6 +16,7 @@
 //
 // (params, mode, BridgeInput, V_batt) => MotorTerminal (for DcMotor).
 
+#include <algorithm>
 #include <array>
 
 #include "plant/dc_motor.hpp"
@@ -45,7 +46,34 @@ struct BridgeInput {
 /// (eq. 19: source = V_0 - k AH - R_b x the OTHER bridge's current). This
 /// bridge's own share of the R_b drop goes into series_resistance_ohm.
 /// With battery_resistance_ohm = 0, source_V is simply the battery voltage.
-MotorTerminal terminal(const L298Params& p, DriveMode mode, const BridgeInput& in,
-                       double source_V, double battery_resistance_ohm = 0.0);
+/// Inline: it runs twice per plant step.
+inline MotorTerminal terminal(const L298Params& p, DriveMode mode, const BridgeInput& in,
+                              double source_V, double battery_resistance_ohm = 0.0) {
+    // Terminal voltage f (V_b - drop) with V_b = source - R_b f I:
+    //   = f (source - drop) - f^2 R_b I, f = supply factor.
+    // Bridge off: -sgn(I)(V_b + 2 V_f) with V_b = source + R_b |I|:
+    //   = -sgn(I)(source + 2 V_f) - R_b I.
+    MotorTerminal t;
+    const double sign = in.forward ? 1.0 : -1.0;
+    // The bridge cannot reverse the supply: below the drop it passes nothing.
+    const double available_V = std::max(source_V - p.drop_V, 0.0);
+    if (mode == DriveMode::averaged) {
+        t.kind = MotorTerminal::Kind::driven;
+        t.voltage_V = sign * in.duty * available_V;
+        // Chopper average: the battery supplies the motor current duty of the time.
+        t.supply_factor = sign * in.duty;
+        t.series_resistance_ohm = in.duty * in.duty * battery_resistance_ohm;
+    } else if (in.enable) {
+        t.kind = MotorTerminal::Kind::driven;
+        t.voltage_V = sign * available_V;
+        t.supply_factor = sign;
+        t.series_resistance_ohm = battery_resistance_ohm;
+    } else {
+        t.kind = MotorTerminal::Kind::open;
+        t.clamp_V = source_V + 2.0 * p.flyback_diode_drop_V;
+        t.series_resistance_ohm = battery_resistance_ohm;
+    }
+    return t;
+}
 
 }  // namespace ddmr::plant

@@ -14,9 +14,29 @@ namespace {
 
 double sgn(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
 
+/// The entry of a small round-robin cache keyed by step length `h` (the
+/// entries' `h` member): the one holding `h`, or the oldest one, refilled
+/// by `fill` for `h`.
+template <class Entry, std::size_t N, class Fill>
+const Entry& recent(std::array<Entry, N>& cache, std::size_t& next, double h, const Fill& fill) {
+    for (const Entry& c : cache) {
+        if (c.h == h) return c;
+    }
+    Entry& c = cache[next];
+    next = (next + 1) % N;
+    c.h = h;
+    fill(c);
+    return c;
+}
+
 }  // namespace
 
-MotorStepper::MotorStepper(const DcMotorParams& p) : p_(p) { configure(0.0); }
+MotorStepper::MotorStepper(const DcMotorParams& p)
+    : p_(p),
+      coast_time_constant_(p.inertia_kg_m2 / p.viscous_friction_N_m_s_per_rad),
+      coast_stall_speed_(p.coulomb_friction_N_m / p.viscous_friction_N_m_s_per_rad) {
+    configure(0.0);
+}
 
 void MotorStepper::configure(double series_resistance_ohm) {
     if (series_resistance_ohm == series_ohm_) return;
@@ -69,15 +89,45 @@ Eigen::Matrix2d MotorStepper::transition(double t) const {
 }
 
 const MotorStepper::CacheEntry& MotorStepper::cached(double h) {
-    for (const CacheEntry& c : cache_) {
-        if (c.h == h) return c;
+    return recent(cache_, cache_next_, h, [&](CacheEntry& c) {
+        c.e = transition(h);
+        c.g = a_inv_ * (c.e - Eigen::Matrix2d::Identity());
+    });
+}
+
+const MotorStepper::CoastEntry& MotorStepper::coast_decay(double h) {
+    return recent(coast_cache_, coast_next_, h, [&](CoastEntry& c) {
+        c.decay = std::exp(-h / coast_time_constant_);
+        c.one_minus_decay = -std::expm1(-h / coast_time_constant_);
+    });
+}
+
+void MotorStepper::coast(const DcMotorState& x, double tau, MotorSegment& seg) {
+    seg.start = x;
+    seg.end = x;
+    seg.duration_s = tau;
+    if (x.speed_rad_s == 0.0) {
+        seg.regime = MotorRegime::stopped;
+        return;
     }
-    CacheEntry& c = cache_[cache_next_];
-    cache_next_ = (cache_next_ + 1) % cache_.size();
-    c.h = h;
-    c.e = transition(h);
-    c.g = a_inv_ * (c.e - Eigen::Matrix2d::Identity());
-    return c;
+    // I = 0: J dw/dt = -F w - T_c sgn(w); w(t) = w_ss + (w0 - w_ss) e^{-F t / J}
+    // with w_ss = -sgn(w) T_c / F.
+    seg.regime = MotorRegime::coasting;
+    const double w_ss = -sgn(x.speed_rad_s) * coast_stall_speed_;
+    seg.x_ss = Eigen::Vector2d(0.0, w_ss);
+    const double dw = x.speed_rad_s - w_ss;
+    // w reaches 0 where |dw| e^{-F t / J} = T_c / F: within the segment when
+    // the decay over it gets there.
+    const CoastEntry* d = &coast_decay(tau);
+    const bool stops = coast_stall_speed_ > 0.0 && d->decay * std::abs(dw) <= coast_stall_speed_;
+    if (stops) {
+        seg.duration_s =
+            std::min(std::log(std::abs(dw) / coast_stall_speed_) * coast_time_constant_, tau);
+        d = &coast_decay(seg.duration_s);
+    }
+    seg.end.speed_rad_s = stops ? 0.0 : w_ss + dw * d->decay;
+    seg.end.angle_rad =
+        x.angle_rad + w_ss * seg.duration_s + dw * d->one_minus_decay * coast_time_constant_;
 }
 
 double MotorStepper::effective_voltage(const DcMotorState& x, const MotorTerminal& u) const {
@@ -152,7 +202,6 @@ void MotorStepper::advance(DcMotorState& x, const MotorTerminal& u, double h,
     const double kt = p_.torque_N_m_per_A;
     const double tc = p_.coulomb_friction_N_m;
     const double jm = p_.inertia_kg_m2;
-    const double f = p_.viscous_friction_N_m_s_per_rad;
 
     double t = 0.0;
     bool force_moving = false;
@@ -285,22 +334,9 @@ void MotorStepper::advance(DcMotorState& x, const MotorTerminal& u, double h,
                 break;
             }
             case MotorRegime::coasting: {
-                // I = 0: J dw/dt = -F w - T_c sgn(w); w(t) = w_ss + (w0 - w_ss) e^{-F t / J}
-                const double s = sgn(x.speed_rad_s);
-                const double rate = f / jm;
-                const double w_ss = -s * tc / f;
-                seg.x_ss = Eigen::Vector2d(0.0, w_ss);
-                const double dw = x.speed_rad_s - w_ss;
-                bool stops = false;
-                if (tc > 0.0) {
-                    const double t_stop = -std::log(-w_ss / dw) / rate;
-                    if (t_stop <= tau) {
-                        tau = t_stop;
-                        stops = true;
-                    }
-                }
-                end.speed_rad_s = stops ? 0.0 : w_ss + dw * std::exp(-rate * tau);
-                end.angle_rad = x.angle_rad + w_ss * tau + dw * (-std::expm1(-rate * tau)) / rate;
+                coast(x, tau, seg);
+                tau = seg.duration_s;
+                end = seg.end;
                 break;
             }
             case MotorRegime::stopped:

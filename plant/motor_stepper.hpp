@@ -65,6 +65,13 @@ class MotorStepper {
     /// Advances `x` by `h_s` > 0 with the terminal condition `u` held.
     void advance(DcMotorState& x, const MotorTerminal& u, double h_s, MotorStepResult& out);
 
+    /// The coasting regime (bridge off, I = 0) from `x` for up to `tau_s`:
+    /// fills `seg` (not its t0_s) with the exact decay of w by friction. When
+    /// w reaches 0 sooner, the segment ends there with w = 0 (the shaft then
+    /// stays stopped: Coulomb friction holds it); w = 0 at the start gives a
+    /// stopped segment of tau_s.
+    void coast(const DcMotorState& x, double tau_s, MotorSegment& seg);
+
     /// Shaft speed [rad/s] and angle [rad] at `tau_s` into a segment of the
     /// latest advance() (the solution uses the series resistance it had).
     [[nodiscard]] DcMotorState state_at(const MotorSegment& seg, double tau_s) const;
@@ -87,6 +94,13 @@ class MotorStepper {
         Eigen::Matrix2d g = Eigen::Matrix2d::Zero();  ///< A^{-1}(e^{A h} - I)
     };
     const CacheEntry& cached(double h);
+    /// Coasting decay over h, for the last two step lengths h.
+    struct CoastEntry {
+        double h = -1.0;
+        double decay = 1.0;            ///< e^{-F h / J}
+        double one_minus_decay = 0.0;  ///< 1 - e^{-F h / J}, without cancellation
+    };
+    const CoastEntry& coast_decay(double h);
     /// Rebuilds A and its closed-form data for R = R_a + series_R (when it changes).
     void configure(double series_resistance_ohm);
     MotorRegime classify(const DcMotorState& x, const MotorTerminal& u) const;
@@ -94,6 +108,8 @@ class MotorStepper {
     double moving_sign(const DcMotorState& x, const MotorTerminal& u) const;
 
     DcMotorParams p_;
+    double coast_time_constant_;  ///< J / F [s]: w's decay while coasting
+    double coast_stall_speed_;    ///< T_c / F [rad/s]: |w_ss| while coasting
     double series_ohm_ = -1.0;    ///< R_s the matrices below were built for
     double r_total_ohm_ = 0.0;    ///< R_a + R_s
     Eigen::Matrix2d a_;
@@ -103,6 +119,8 @@ class MotorStepper {
     double max_segment_s_ = 0.0;  ///< pi/beta for complex eigenvalues, else infinity
     std::array<CacheEntry, 2> cache_{};
     std::size_t cache_next_ = 0;
+    std::array<CoastEntry, 2> coast_cache_{};
+    std::size_t coast_next_ = 0;
 };
 
 }  // namespace ddmr::plant

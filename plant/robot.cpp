@@ -10,14 +10,14 @@ namespace ddmr::plant {
 
 namespace {
 bool finite(const RobotState& s) {
-    bool ok = std::isfinite(s.t_s) && std::isfinite(s.battery.charge_drawn_C) &&
-              std::isfinite(s.pose.x_m) && std::isfinite(s.pose.y_m) &&
-              std::isfinite(s.pose.theta_rad);
+    // v * 0 is 0 for a finite v and NaN for an infinite or NaN one, so the
+    // sum is 0 exactly when every value is finite (no branch per value).
+    double zero = 0.0 * s.t_s + 0.0 * s.battery.charge_drawn_C + 0.0 * s.pose.x_m +
+                  0.0 * s.pose.y_m + 0.0 * s.pose.theta_rad;
     for (const DcMotorState& m : s.motor) {
-        ok = ok && std::isfinite(m.current_A) && std::isfinite(m.speed_rad_s) &&
-             std::isfinite(m.angle_rad);
+        zero += 0.0 * m.current_A + 0.0 * m.speed_rad_s + 0.0 * m.angle_rad;
     }
-    return ok;
+    return zero == 0.0;
 }
 /// A motor whose shaft is held: stiction without bound, so it stays in the
 /// stuck regime (w = 0, L dI/dt = V - R I) whatever the current.
@@ -171,11 +171,12 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
 bool Robot::finish_substep(const RobotState& before, double h) {
     std::array<double, kMotorCount> wheel_turn_rad{};
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        wheel_turn_rad[m] =
-            faults_.traction[m] * (state_.motor[m].angle_rad - before.motor[m].angle_rad) /
-            params_.motor[m].gear_ratio;
+        // x traction / gear ratio: that factor does not depend on the state,
+        // so a multiplication keeps a division off the update's critical path.
+        const double wheel_per_motor = faults_.traction[m] / params_.motor[m].gear_ratio;
+        wheel_turn_rad[m] = (state_.motor[m].angle_rad - before.motor[m].angle_rad) * wheel_per_motor;
     }
-    advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1]);
+    advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1], heading_);
     state_.t_s = before.t_s + h;
     if (!finite(state_)) {
         diverged_at_s_ = before.t_s;
@@ -205,9 +206,33 @@ double Robot::joint_substep(double h, EdgeBuffer& edges) {
     for (std::size_t m = 0; m < kMotorCount; ++m) {
         if (!std::isfinite(x[m].angle_rad)) continue;  // caught below
         encoder_[m].process([&](double tau) { return coupled_.state_at(joint_, m, tau); }, 0.0, done,
-                            x[m].angle_rad, before.t_s, before.t_s + done, edges);
+                            before.motor[m].angle_rad, x[m].angle_rad, before.t_s,
+                            before.t_s + done, edges);
     }
     return finish_substep(before, done) ? done : -1.0;
+}
+
+bool Robot::both_coasting() const {
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        if (input_.bridge[m].enable || state_.motor[m].current_A != 0.0 || faults_.shaft_locked[m]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool Robot::coast_substep(double h, EdgeBuffer& edges) {
+    // No current flows, so the battery is idle (no charge drawn) and the
+    // motors do not interact: each one's exact coasting solution is the step.
+    const RobotState before = state_;
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        MotorSegment& seg = scratch_[m].segments[0];
+        seg.t0_s = 0.0;
+        stepper_[m].coast(before.motor[m], h, seg);
+        state_.motor[m] = seg.end;  // stopped early: it stays stopped
+        encoder_[m].process(stepper_[m], seg, before.t_s, before.t_s + h, edges);
+    }
+    return finish_substep(before, h);
 }
 
 bool Robot::battery_coupled() const {
@@ -246,6 +271,10 @@ StepResult Robot::step(double dt_s, EdgeBuffer& edges) {
         }
         double left = h;
         while (left > 0.0) {
+            if (both_coasting()) {
+                if (!coast_substep(left, edges)) return {StepStatus::diverged, state_.t_s};
+                break;
+            }
             // Both motors exactly, up to the step's end or the first regime change.
             const double done = joint_substep(left, edges);
             if (done < 0.0) return {StepStatus::diverged, state_.t_s};

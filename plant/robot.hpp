@@ -19,11 +19,15 @@
 //   switched : both motors together, exactly (coupled_motors.hpp), while both
 //              shafts turn; a regime change (a speed reaching zero, a diode
 //              current reaching zero: discontinuous conduction) ends that
-//              solution at its exact time. While a motor is stuck or
-//              open-circuit, motor by motor (motor_stepper.hpp, exact for
-//              each), over pieces of at most params.stepper.event_step_s with
-//              the other motor's battery current held at its mean over the
-//              piece (predictor-corrector; exact when one motor draws nothing).
+//              solution at its exact time. With both bridges off and both
+//              currents at zero (the off-time of a PWM period once the
+//              diodes stop conducting) nothing couples the motors: each shaft
+//              coasts on its own exact solution (MotorStepper::coast). While
+//              one motor is stuck or open-circuit, motor by motor
+//              (motor_stepper.hpp, exact for each), over pieces of at most
+//              params.stepper.event_step_s with the other motor's battery
+//              current held at its mean over the piece (predictor-corrector;
+//              exact when one motor draws nothing).
 //   averaged : motor by motor with the held coupling over the whole step:
 //              the supply currents are continuous there, so this is second
 //              order and as accurate (docs/plant.md), without one
@@ -135,6 +139,10 @@ class Robot {
     /// advanced (h, or up to a regime change), 0 when refused (a motor stuck
     /// or open-circuit), -1 when the state diverged.
     double joint_substep(double h, EdgeBuffer& edges);
+    /// Switched mode with both bridges off and no current in either motor:
+    /// both shafts coast (or stand), uncoupled, each exactly.
+    [[nodiscard]] bool both_coasting() const;
+    bool coast_substep(double h, EdgeBuffer& edges);
     /// Motor by motor, each exact, with the battery coupling held over h.
     bool substep(double h, EdgeBuffer& edges);
     /// Switched mode: whether neither motor is open-circuit, i.e. both may
@@ -156,6 +164,7 @@ class Robot {
     std::array<MotorStepResult, kMotorCount> scratch_{};
     CoupledMotorStepper coupled_;
     CoupledSegment joint_{};
+    HeadingTrig heading_{};
 };
 
 }  // namespace ddmr::plant

@@ -84,5 +84,57 @@ TEST(DiffDriveKinematics, ArcAgreesWithEq10Derivative) {
     EXPECT_NEAR((q.y_m - pose.y_m) / 1e-6, d.y_m, 1e-6);
 }
 
+TEST(DiffDriveKinematics, CarriedHeadingTrigFollowsTheExactArc) {
+    // 10 s of a 0.2 m-radius turn at 62.5 us steps (160000 steps, the HIL's
+    // step), wheel rotations 0.0125 and 0.0075 rad per step: the carried cos
+    // and sin (rotated by each step's turn, recomputed every 1024 steps) give
+    // the pose that sin and cos of the full heading give, to rounding.
+    const DiffDriveParams p;
+    Pose exact;
+    Pose carried;
+    HeadingTrig trig;
+    for (int k = 0; k < 160000; ++k) {
+        advance_exact_arc(p, exact, 0.0125, 0.0075);
+        advance_exact_arc(p, carried, 0.0125, 0.0075, trig);
+    }
+    EXPECT_GT(std::abs(exact.theta_rad), 10.0);  // it went round more than once
+    EXPECT_NEAR(carried.theta_rad, exact.theta_rad, 1e-12);
+    EXPECT_NEAR(carried.x_m, exact.x_m, 1e-12);
+    EXPECT_NEAR(carried.y_m, exact.y_m, 1e-12);
+}
+
+TEST(DiffDriveKinematics, CarriedHeadingTrigPicksUpAChangedHeading) {
+    const DiffDriveParams p;
+    Pose pose;
+    HeadingTrig trig;
+    for (int k = 0; k < 10; ++k) advance_exact_arc(p, pose, 0.01, 0.009, trig);
+    // Someone turns the robot (a push, a restored snapshot): the next step
+    // must use the new heading, not the carried cos and sin.
+    pose.theta_rad = 2.0;
+    const Pose before = pose;
+    advance_exact_arc(p, pose, 0.01, 0.009, trig);
+    // Chord 0.0322 x 0.0095 m x sin(a)/a, a = 0.0322 x 0.001 / 0.256 rad (half
+    // the turn), along the mean heading 2 + a.
+    const double a = kR * 0.001 / (4 * kL);
+    const double chord = kR * 0.0095 * (1.0 - a * a / 6.0);
+    EXPECT_NEAR(pose.x_m - before.x_m, chord * std::cos(2.0 + a), 1e-15);
+    EXPECT_NEAR(pose.y_m - before.y_m, chord * std::sin(2.0 + a), 1e-15);
+}
+
+TEST(DiffDriveKinematics, CarriedHeadingTrigHandsLargeTurnsToTheFullArc) {
+    // Opposite wheels, 0.5 rad each: the robot turns 2 x 0.0322 x 0.5 / 0.128
+    // = 0.2516 rad in one step, beyond the small-angle series (|turn/2| <= 0.01).
+    const DiffDriveParams p;
+    Pose a{0.1, 0.2, 0.3};
+    Pose b = a;
+    HeadingTrig trig;
+    advance_exact_arc(p, a, 0.5, -0.5);
+    advance_exact_arc(p, b, 0.5, -0.5, trig);
+    EXPECT_NEAR(a.x_m, b.x_m, 1e-15);
+    EXPECT_NEAR(a.y_m, b.y_m, 1e-15);
+    EXPECT_NEAR(a.theta_rad, b.theta_rad, 1e-15);
+    EXPECT_NEAR(b.theta_rad, 0.3 + 2 * kR * 0.5 / (2 * kL), 1e-15);
+}
+
 }  // namespace
 }  // namespace ddmr::plant

@@ -147,6 +147,36 @@ TEST(MotorStepper, CoastingStopsInFiniteTime) {
     EXPECT_NEAR(x.angle_rad, 257.644, 1e-3);
 }
 
+TEST(MotorStepper, CoastFollowsTheFrictionDecayAndStopsAtTheHandWorkedTime) {
+    const DcMotorParams p;
+    MotorStepper s(p);
+    // J/F = 0.863636 s, T_c/F = 1045.45 rad/s. From w0 = 1000 rad/s:
+    //   w(t) = -1045.45 + 2045.45 e^{-t/0.863636}: w(0.1) = 776.3555 rad/s,
+    //   angle(0.1) = -104.545 + 2045.45 x 0.863636 (1 - e^{-0.1/0.863636}) = 88.60203 rad;
+    //   w = 0 at t = 0.863636 ln(1 + 1000/1045.45) = 0.5796453 s.
+    const DcMotorState x{0.0, 1000.0, 0.0};
+    MotorSegment seg;
+    s.coast(x, 0.1, seg);
+    EXPECT_EQ(seg.regime, MotorRegime::coasting);
+    EXPECT_EQ(seg.duration_s, 0.1);
+    EXPECT_NEAR(seg.end.speed_rad_s, 776.3555462509, 1e-9);
+    EXPECT_NEAR(seg.end.angle_rad, 88.6020282379, 1e-9);
+    EXPECT_EQ(seg.end.current_A, 0.0);
+    s.coast(x, 1.0, seg);  // stops inside: the segment ends there, at rest
+    EXPECT_NEAR(seg.duration_s, 0.5796453274, 1e-9);
+    EXPECT_EQ(seg.end.speed_rad_s, 0.0);
+    EXPECT_NEAR(seg.end.angle_rad, 257.644, 1e-3);
+    // Backwards it is the mirror image.
+    s.coast(DcMotorState{0.0, -1000.0, 0.0}, 0.1, seg);
+    EXPECT_NEAR(seg.end.speed_rad_s, -776.3555462509, 1e-9);
+    EXPECT_NEAR(seg.end.angle_rad, -88.6020282379, 1e-9);
+    // At rest it stays at rest.
+    s.coast(DcMotorState{0.0, 0.0, 3.0}, 0.1, seg);
+    EXPECT_EQ(seg.regime, MotorRegime::stopped);
+    EXPECT_EQ(seg.end.speed_rad_s, 0.0);
+    EXPECT_EQ(seg.end.angle_rad, 3.0);
+}
+
 TEST(MotorStepper, BridgeOffCurrentFallsToZeroAndStaysThere) {
     const DcMotorParams p;
     MotorStepper s(p);

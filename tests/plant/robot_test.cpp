@@ -190,6 +190,56 @@ TEST(Robot, ChargeDrawnIsTheIntegralOfTheSupplyCurrent) {
                 6.1 - 0.72 * r.charge_drawn_C() / 3600.0 - 0.037 * r.supply_current_A(), 1e-12);
 }
 
+TEST(Robot, WithBothBridgesOffTheShaftsCoastAndTheBatteryIsIdle) {
+    // Switched mode, full on for 0.5 s, then both enable pins low: the
+    // currents fall to zero through the diodes within a few ms; from then on
+    // no current flows, so each shaft follows the friction decay on its own,
+    // J w' = -F w - T_c:  w(t) = -T_c/F + (w0 + T_c/F) e^{-t F/J},
+    // the battery gives nothing (charge constant, V_b = V_0 - k AH), and the
+    // encoders still count every boundary the shafts pass.
+    Robot r;
+    RobotInput in;
+    in.mode = DriveMode::switched;
+    for (BridgeInput& b : in.bridge) b = BridgeInput{true, 1.0, true};
+    run(r, in, 0.5);
+    for (BridgeInput& b : in.bridge) b.enable = false;
+    EdgeBuffer e;
+    r.set_input(in);
+    for (int k = 0; k < 1000 && (r.motor_current_A(0) != 0.0 || r.motor_current_A(1) != 0.0); ++k) {
+        e.clear();
+        ASSERT_EQ(r.step(1e-5, e).status, StepStatus::ok);
+    }
+    ASSERT_EQ(r.motor_current_A(0), 0.0);
+    ASSERT_EQ(r.motor_current_A(1), 0.0);
+    const RobotState start = r.state();
+    std::uint64_t edges = 0;
+    for (int k = 0; k < 1600; ++k) {  // 0.1 s in HIL steps of 62.5 us
+        e.clear();
+        ASSERT_EQ(r.step(cycles_to_s(1000), e).status, StepStatus::ok);
+        edges += e.size();
+    }
+    EXPECT_EQ(r.charge_drawn_C(), start.battery.charge_drawn_C);
+    EXPECT_EQ(r.supply_current_A(), 0.0);
+    EXPECT_EQ(r.battery_voltage_V(), 6.1 - 0.72 * start.battery.charge_drawn_C / 3600.0);
+    std::uint64_t boundaries = 0;
+    for (std::size_t m = 0; m < kMotorCount; ++m) {
+        const DcMotorParams& p = r.params().motor[m];
+        const double w_ss = p.coulomb_friction_N_m / p.viscous_friction_N_m_s_per_rad;
+        const double w0 = start.motor[m].speed_rad_s;
+        ASSERT_GT(w0, 500.0);  // still turning fast: no stop inside the 0.1 s
+        const double t = r.time_s() - start.t_s;
+        const double decay = std::exp(-t * p.viscous_friction_N_m_s_per_rad / p.inertia_kg_m2);
+        EXPECT_NEAR(r.motor_speed_rad_s(m), -w_ss + (w0 + w_ss) * decay, 1e-9 * w0);
+        EXPECT_EQ(r.motor_current_A(m), 0.0);
+        // Boundaries passed: 8 per revolution, phase 0.5 (hall_encoder.hpp).
+        const double spacing = 2.0 * kPi / 8.0;
+        boundaries += static_cast<std::uint64_t>(std::floor(r.motor_angle_rad(m) / spacing + 0.5) -
+                                                 std::floor(start.motor[m].angle_rad / spacing + 0.5));
+    }
+    EXPECT_EQ(edges, boundaries);
+    EXPECT_GT(edges, 100U);
+}
+
 TEST(Robot, EncoderEdgesAreSortedAndCountEightPerMotorRevolution) {
     Robot r;
     r.set_input(averaged(0.9, 0.6));
