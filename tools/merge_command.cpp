@@ -6,10 +6,11 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <set>
+#include <optional>
 
 #include "common/atomic_file.hpp"
 #include "scenario/suite_results.hpp"
+#include "shard_set.hpp"
 #include "sweep_merge.hpp"
 
 namespace ddmr::tools {
@@ -41,8 +42,7 @@ int run_merge(const MergeCli& cli) {
     }
     // Check that the shards are one suite, each shard once, before writing.
     std::optional<std::vector<std::string>> suite;
-    std::optional<unsigned> count;
-    std::set<unsigned> seen;
+    std::vector<ShardFolder> folders;
     std::map<std::string, fs::path> folder_of;  // scenario name -> its shard's folder
     for (const auto& d : cli.shard_dirs) {
         const json shard = read_json(fs::path(d) / "shard.json");
@@ -50,19 +50,12 @@ int run_merge(const MergeCli& cli) {
         const auto names = shard.at("suite").get<std::vector<std::string>>();
         if (!suite) suite = names;
         if (names != *suite) throw std::invalid_argument(fmt::format("{}: a shard of another suite (its scenarios differ)", d));
-        if (!count) count = s.count;
-        if (s.count != *count) throw std::invalid_argument(fmt::format("{}: shard {} of a {}-way split, not {}", d, s.text(), s.count, *count));
-        if (!seen.insert(s.index).second) throw std::invalid_argument(fmt::format("{}: shard {} given twice", d, s.text()));
+        folders.push_back({d, s});
         for (std::size_t k = 0; k < names.size(); ++k) {
             if (s.contains(k)) folder_of[names[k]] = fs::path(d) / names[k];
         }
     }
-    if (!suite) throw std::invalid_argument("give the shards' folders");
-    if (seen.size() != *count) {
-        for (unsigned i = 1; i <= *count; ++i) {
-            if (!seen.count(i)) throw std::invalid_argument(fmt::format("shard {}/{} is missing", i, *count));
-        }
-    }
+    check_shard_set(folders);
     std::vector<sc::ScenarioResult> all;
     all.reserve(suite->size());
     for (const auto& name : *suite) all.push_back(sc::read_scenario_result(folder_of.at(name)));
