@@ -5,6 +5,7 @@
 #include <sim_io.h>
 #include <sim_irq.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <type_traits>
 
@@ -65,7 +66,10 @@ void EepromWriteTiming::start_write() {
     w.address = static_cast<uint16_t>(
         (avr->data[atmega328p::reg::kEearL] | (avr->data[atmega328p::reg::kEearH] << 8)) & kEearMask);
     w.value = avr->data[atmega328p::reg::kEedr];
-    writes_.push_back(w);  // within the reserve, or amortised growth
+    ++write_count_;
+    if (writes_.size() < kMaxRecordedWrites) writes_.push_back(w);  // reserve, or amortised growth
+    latest_[w.address] = w;
+    written_[w.address] = true;
 
     if (mode_ == EepromTimingMode::kDatasheet) {
         if (busy_) {
@@ -78,7 +82,17 @@ void EepromWriteTiming::start_write() {
         hold_eepe();
         avr_cycle_timer_register(core_.raw(), write_cycles_, &EepromWriteTiming::on_write_done, this);
     }
-    if (listener_) listener_(writes_.back());
+    if (listener_) listener_(w);
+}
+
+std::vector<EepromWrite> EepromWriteTiming::latest_writes() const {
+    std::vector<EepromWrite> out;
+    for (std::size_t a = 0; a < latest_.size(); ++a) {
+        if (written_[a]) out.push_back(latest_[a]);
+    }
+    std::stable_sort(out.begin(), out.end(),
+                     [](const EepromWrite& x, const EepromWrite& y) { return x.cycle < y.cycle; });
+    return out;
 }
 
 uint64_t EepromWriteTiming::on_write_done(avr_t* /*avr*/, uint64_t when, void* param) {

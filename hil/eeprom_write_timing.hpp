@@ -1,6 +1,7 @@
 #pragma once
 // EepromWriteTiming: gives the firmware's EEPROM writes the ATmega328P's
-// programming time, and records every write.
+// programming time, and records the writes (the first kMaxRecordedWrites in
+// order, the latest per address, and their count).
 //
 // On the chip a write from the CPU (atomic erase + write, EEPM1:0 = 00, what
 // avr-libc's eeprom_write_byte uses) runs for 26,368 cycles of the calibrated
@@ -35,6 +36,7 @@
 // modelled: the split erase-only / write-only modes (EEPM1:0 = 01, 10; typ.
 // 1.8 ms, Table 8-1) are timed as atomic; the CPU's 2-cycle halt on a write.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -84,8 +86,17 @@ public:
     /// in kDatasheet mode, 0 in kInstant mode.
     Cycles write_cycles() const { return write_cycles_; }
 
-    /// Every write so far, in order.
+    /// The first kMaxRecordedWrites writes, in order (all of them unless
+    /// write_count() says more happened).
     const std::vector<EepromWrite>& writes() const { return writes_; }
+    /// Every write so far, counted.
+    uint64_t write_count() const { return write_count_; }
+    /// Whether writes() holds every write.
+    bool all_writes_recorded() const { return write_count_ == writes_.size(); }
+    /// The latest write to each address written so far, ordered by cycle
+    /// (at most one per EEPROM byte; exact however many writes there were):
+    /// what the EEPROM log's sample times need.
+    std::vector<EepromWrite> latest_writes() const;
     /// Cycles spent programming by writes that have completed (kDatasheet:
     /// write_cycles() each, less any cut short by a restart; kInstant: 0).
     Cycles busy_cycles_total() const { return busy_cycles_total_; }
@@ -101,6 +112,12 @@ public:
     /// Writes reserved up front: four case-1 runs of the reference sketch
     /// (240 bytes each), so a run does not reallocate inside the simulation.
     static constexpr std::size_t kReservedWrites = atmega328p::kEepromBytes;
+    /// writes() stops growing here (1 MiB): 64 times the whole EEPROM, or
+    /// 3.6 min of back-to-back writes at the datasheet's 3.3 ms each. A
+    /// firmware writing in a loop (with kInstant timing, a write every few
+    /// cycles) would otherwise take memory without bound; write_count() and
+    /// latest_writes() stay exact.
+    static constexpr std::size_t kMaxRecordedWrites = 65536;
 
 private:
     static void on_eecr(avr_irq_t* irq, uint32_t value, void* param);
@@ -117,6 +134,9 @@ private:
     Cycles busy_since_ = 0;  ///< cycle the write in progress started
     Cycles busy_cycles_total_ = 0;
     std::vector<EepromWrite> writes_;
+    uint64_t write_count_ = 0;
+    std::array<EepromWrite, atmega328p::kEepromBytes> latest_{};  ///< by address
+    std::array<bool, atmega328p::kEepromBytes> written_{};         ///< latest_ entry valid
     std::function<void(const EepromWrite&)> listener_;
 };
 

@@ -569,6 +569,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         profiler->tag_eeprom_writes(write_cycles);
         result.loop_profile = profiler->iterations();
         loop_profile = loop_profile_json(result.loop_profile, core.clock_hz());
+        loop_profile["eeprom_writes_all_tagged"] = rig.eeprom_timing().all_writes_recorded();
         loop_profile["mark"] = options.loop_mark;
         loop_profile_csv = loop_profile_table(result.loop_profile, core.clock_hz());
     }
@@ -600,9 +601,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     isr["torn_reads"] = torn;
     const hil::EepromLogTiming log_timing =
-        hil::eeprom_log_timing(rig.eeprom_timing().writes(), result.ready_cycle.value_or(0), core.clock_hz());
+        hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), result.ready_cycle.value_or(0), core.clock_hz());
     const auto log = hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s);
     result.eeprom_log_samples = log.size();
+    result.eeprom_writes = rig.eeprom_timing().write_count();
+    result.eeprom_writes_recorded = rig.eeprom_timing().writes().size();
 
     // --- Artifacts, each written atomically. ---
     const double mcycles_per_s =
@@ -648,7 +651,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         {"loop_iterations", result.loop_iterations},
         {"mean_loop_period_s", result.mean_loop_period_s},
         {"eeprom_log_samples", result.eeprom_log_samples},
-        {"eeprom_writes", rig.eeprom_timing().writes().size()},
+        {"eeprom_writes", result.eeprom_writes},
+        {"eeprom_writes_recorded", result.eeprom_writes_recorded},
         {"loop_profile", loop_profile},
         {"vcd", options.vcd ? json(options.vcd->string()) : json(nullptr)},
         {"function_profile",

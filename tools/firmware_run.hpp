@@ -118,6 +118,11 @@ struct FirmwareRunResult {
     double mean_loop_period_s = 0.0;  ///< over the traced iterations
     std::size_t eeprom_log_samples = 0;
     std::vector<hil::LoopIteration> loop_profile;  ///< with FirmwareRunOptions::profile
+    /// EEPROM writes, and how many of them are recorded (the first
+    /// EepromWriteTiming::kMaxRecordedWrites): loop_profile's EEPROM tags
+    /// cover the recorded ones.
+    uint64_t eeprom_writes = 0;
+    std::size_t eeprom_writes_recorded = 0;
     std::string function_profile_top;  ///< with profile: the top-N table for stdout
 };
 

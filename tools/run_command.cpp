@@ -162,6 +162,11 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         r.loop_profile.size(), hil::cycles_to_s(sum_compute) / n * 1e6,
                         hil::cycles_to_s(max_compute) * 1e6, hil::cycles_to_s(sum_period) / n * 1e3,
                         hil::cycles_to_s(max_period) * 1e3);
+            if (r.eeprom_writes > r.eeprom_writes_recorded) {
+                std::printf("loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
+                            "the last of them are not tagged eeprom_write\n",
+                            static_cast<unsigned long long>(r.eeprom_writes), r.eeprom_writes_recorded);
+            }
         }
         if (!r.function_profile_top.empty()) {
             std::printf("%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());

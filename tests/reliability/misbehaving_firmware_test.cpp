@@ -7,6 +7,9 @@
 #include <fstream>
 #include <string>
 
+#include "hil/eeprom_port.hpp"
+#include "hil/eeprom_write_timing.hpp"
+#include "hil/elf_image.hpp"
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
@@ -68,6 +71,46 @@ TEST(MisbehavingFirmware, AFloodedUartIsReceivedInFull) {
     const std::string uart = read_text(dir / "out/listen/uart.txt");
     EXPECT_GE(uart.size(), 1920U);
     EXPECT_LE(uart.size(), 1923U);
+}
+
+TEST(MisbehavingFirmware, AnEepromFloodIsCountedInBoundedMemory) {
+    // eeprom_flood writes address n mod 1024 with (n / 8) mod 256, n = 0, 1, ...
+    // With simavr's instant writes that is one write every few dozen cycles:
+    // 0.5 s make far more than EepromWriteTiming records (kMaxRecordedWrites).
+    // The list stops there; the count, and the latest write of every address
+    // (what the EEPROM log's times need), stay exact.
+    using hil::EepromWriteTiming;
+    const auto elf = hil::ElfImage::read(fs::path(DDMR_MISBEHAVING_DIR) / "eeprom_flood.elf");
+    hil::AvrCore core(elf);
+    EepromWriteTiming timing(core, hil::EepromTimingMode::kInstant);
+    const hil::EepromPort eeprom(core);
+    core.run_until(hil::s_to_cycles(0.5));
+    const uint64_t n = timing.write_count();
+    ASSERT_GT(n, EepromWriteTiming::kMaxRecordedWrites + 1024);
+    EXPECT_FALSE(timing.all_writes_recorded());
+    const auto& recorded = timing.writes();
+    ASSERT_EQ(recorded.size(), EepromWriteTiming::kMaxRecordedWrites);
+    for (std::size_t k = 0; k < recorded.size(); ++k) {  // the first ones, in order
+        ASSERT_EQ(recorded[k].address, k % 1024) << k;
+        ASSERT_EQ(recorded[k].value, static_cast<uint8_t>(k / 8)) << k;
+        if (k > 0) {
+            ASSERT_GT(recorded[k].cycle, recorded[k - 1].cycle) << k;
+        }
+    }
+    const auto latest = timing.latest_writes();
+    ASSERT_EQ(latest.size(), 1024U);
+    const hil::EepromImage image = eeprom.read_all();
+    for (std::size_t k = 0; k < latest.size(); ++k) {
+        EXPECT_EQ(latest[k].value, image[latest[k].address]) << "address " << latest[k].address;
+        if (k > 0) {
+            EXPECT_GT(latest[k].cycle, latest[k - 1].cycle) << k;
+        }
+    }
+    // The newest is write n - 1; the oldest of the latest is write n - 1024.
+    EXPECT_EQ(latest.back().address, (n - 1) % 1024);
+    EXPECT_EQ(latest.back().value, static_cast<uint8_t>((n - 1) / 8));
+    EXPECT_EQ(latest.front().address, (n - 1024) % 1024);
+    EXPECT_EQ(latest.front().value, static_cast<uint8_t>((n - 1024) / 8));
 }
 
 }  // namespace

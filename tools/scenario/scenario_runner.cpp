@@ -431,7 +431,7 @@ private:
     std::vector<hil::EepromLogSample> eeprom_log() {
         const hil::EepromImage image = rig_->eeprom().read_all();
         const hil::EepromLogTiming timing =
-            hil::eeprom_log_timing(rig_->eeprom_timing().writes(), origin_cycle_, chip::kClockHz);
+            hil::eeprom_log_timing(rig_->eeprom_timing().latest_writes(), origin_cycle_, chip::kClockHz);
         return hil::decode_eeprom_log(image, timing.sample_count, timing.times_s);
     }
     std::string run_step(const ExpectEeprom& e) {
@@ -505,6 +505,12 @@ private:
         return fmt::format("rms {:.4f} m, endpoint {:.4f} m over {} samples", m.rms_m, m.endpoint_m, m.samples);
     }
     std::string run_step(const ExpectLoop& e) {
+        if (!e.include_eeprom_writes && !rig_->eeprom_timing().all_writes_recorded()) {
+            throw StepFailed{Verdict::kFail,
+                             fmt::format("include_eeprom_writes: false needs every EEPROM write, but only the first {} "
+                                         "of {} are recorded",
+                                         rig_->eeprom_timing().writes().size(), rig_->eeprom_timing().write_count())};
+        }
         std::vector<Cycles> write_cycles;
         for (const auto& w : rig_->eeprom_timing().writes()) write_cycles.push_back(w.cycle);
         profiler_->tag_eeprom_writes(write_cycles);
