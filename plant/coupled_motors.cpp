@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 
 #include "plant/root_find.hpp"
@@ -156,10 +157,9 @@ double CoupledMotorStepper::advance(std::array<DcMotorState, 2>& x,
         double t_w = h + 1.0;
         if (!(s * x1(i + 1) > 0.0)) {
             t_w = find_root(component(i + 1, 0), 0.0, h, s);
-        } else if (s * dw0 < 0.0 && s * dw1 > 0.0 && !(s * (x0(i + 1) + dw0 * h) > 0.0)) {
-            // One minimum of s w inside: does it dip through zero? (While s w
-            // falls, its slope rises from s dw0, so s w >= s (w0 + dw0 t):
-            // when that bound stays positive over the step, it cannot.)
+        } else if (s * dw0 < 0.0 && s * dw1 > 0.0 && !keeps_sign(seg, i + 1, s, x0(i + 1), dw0, h)) {
+            // One minimum of s w inside, and the bound cannot rule out that
+            // it dips through zero: find it.
             const double te = find_root(component(i + 1, 1), 0.0, h, -s);
             if (!(s * component_at(seg, i + 1, 0, te).first > 0.0)) {
                 t_w = find_root(component(i + 1, 0), 0.0, te, s);
@@ -217,6 +217,19 @@ void CoupledMotorStepper::resolve_modes(const CoupledSegment& seg) const {
         seg.coef = c.v * seg.modes.asDiagonal();
     }
     seg.modes_ready = true;
+}
+
+bool CoupledMotorStepper::keeps_sign(const CoupledSegment& seg, Eigen::Index k, double s,
+                                     double x0, double dx0, double h) const {
+    resolve_modes(seg);
+    const Config& c = configs_[seg.config];
+    double bound = 0.0;  // >= |x_k''| on [0, h]
+    for (Eigen::Index j = 0; j < 4; ++j) {
+        const std::complex<double> lambda = c.lambda(j);
+        bound += std::abs(seg.coef(k, j)) * std::norm(lambda) * std::exp(std::max(lambda.real(), 0.0) * h);
+    }
+    // The bound is concave in t and s x0 > 0: its minimum on [0, h] is at h.
+    return s * (x0 + dx0 * h) - 0.5 * bound * h * h > 0.0;
 }
 
 Eigen::Vector4cd CoupledMotorStepper::exp_modes(const Config& c, double tau) {

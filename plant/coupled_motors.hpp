@@ -110,6 +110,11 @@ class CoupledMotorStepper {
 
   private:
     void resolve_modes(const CoupledSegment& seg) const;
+    /// Whether component k (a speed) keeps the sign `s` over [0, h] by
+    /// Taylor's bound s x_k(t) >= s x_k(0) + s x_k'(0) t - M t^2 / 2, where
+    /// M = sum_j |coef(k, j)| |lambda_j|^2 e^{max(Re lambda_j, 0) h} bounds |x_k''|.
+    [[nodiscard]] bool keeps_sign(const CoupledSegment& seg, Eigen::Index k, double s, double x0,
+                                  double dx0, double h) const;
     /// Component k of x (order 0) or x' (order 1) at tau, with its time derivative.
     [[nodiscard]] std::pair<double, double> component_at(const CoupledSegment& seg, Eigen::Index k,
                                                          int order, double tau_s) const;

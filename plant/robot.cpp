@@ -176,7 +176,8 @@ bool Robot::finish_substep(const RobotState& before, double h) {
         const double wheel_per_motor = faults_.traction[m] / params_.motor[m].gear_ratio;
         wheel_turn_rad[m] = (state_.motor[m].angle_rad - before.motor[m].angle_rad) * wheel_per_motor;
     }
-    advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1], heading_);
+    advance_exact_arc(params_.kinematics, state_.pose, wheel_turn_rad[0], wheel_turn_rad[1],
+                      state_.heading);
     state_.t_s = before.t_s + h;
     if (!finite(state_)) {
         diverged_at_s_ = before.t_s;

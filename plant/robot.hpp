@@ -66,6 +66,10 @@ struct RobotState {
     std::array<DcMotorState, kMotorCount> motor{};
     BatteryState battery{};
     Pose pose{};
+    /// cos and sin of the heading as carried from step to step
+    /// (diff_drive_kinematics.hpp): part of the state, so a restored state
+    /// continues bit for bit as the original run did.
+    HeadingTrig heading{};
 };
 
 enum class StepStatus {
@@ -164,7 +168,6 @@ class Robot {
     std::array<MotorStepResult, kMotorCount> scratch_{};
     CoupledMotorStepper coupled_;
     CoupledSegment joint_{};
-    HeadingTrig heading_{};
 };
 
 }  // namespace ddmr::plant
