@@ -69,7 +69,7 @@ void EepromWriteTiming::start_write() {
     ++write_count_;
     if (writes_.size() < kMaxRecordedWrites) writes_.push_back(w);  // reserve, or amortised growth
     latest_[w.address] = w;
-    written_[w.address] = true;
+    written_[w.address] = 1;
 
     if (mode_ == EepromTimingMode::kDatasheet) {
         if (busy_) {
@@ -88,7 +88,7 @@ void EepromWriteTiming::start_write() {
 std::vector<EepromWrite> EepromWriteTiming::latest_writes() const {
     std::vector<EepromWrite> out;
     for (std::size_t a = 0; a < latest_.size(); ++a) {
-        if (written_[a]) out.push_back(latest_[a]);
+        if (written_[a] != 0) out.push_back(latest_[a]);
     }
     std::stable_sort(out.begin(), out.end(),
                      [](const EepromWrite& x, const EepromWrite& y) { return x.cycle < y.cycle; });

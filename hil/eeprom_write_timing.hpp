@@ -36,7 +36,6 @@
 // modelled: the split erase-only / write-only modes (EEPM1:0 = 01, 10; typ.
 // 1.8 ms, Table 8-1) are timed as atomic; the CPU's 2-cycle halt on a write.
 
-#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -135,8 +134,10 @@ private:
     Cycles busy_cycles_total_ = 0;
     std::vector<EepromWrite> writes_;
     uint64_t write_count_ = 0;
-    std::array<EepromWrite, atmega328p::kEepromBytes> latest_{};  ///< by address
-    std::array<bool, atmega328p::kEepromBytes> written_{};         ///< latest_ entry valid
+    // By address, on the heap (17 KiB inside the rig would spread its hot
+    // members over more cache lines: --profile ran 5 % slower).
+    std::vector<EepromWrite> latest_ = std::vector<EepromWrite>(atmega328p::kEepromBytes);
+    std::vector<uint8_t> written_ = std::vector<uint8_t>(atmega328p::kEepromBytes, 0);  ///< latest_ entry valid
     std::function<void(const EepromWrite&)> listener_;
 };
 
