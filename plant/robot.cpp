@@ -213,11 +213,13 @@ double Robot::joint_substep(double h, EdgeBuffer& edges) {
     return finish_substep(before, done) ? done : -1.0;
 }
 
+bool Robot::open_circuit(std::size_t m) const {
+    return !input_.bridge[m].enable && state_.motor[m].current_A == 0.0;
+}
+
 bool Robot::both_coasting() const {
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        if (input_.bridge[m].enable || state_.motor[m].current_A != 0.0 || faults_.shaft_locked[m]) {
-            return false;
-        }
+        if (!open_circuit(m) || faults_.shaft_locked[m]) return false;
     }
     return true;
 }
@@ -240,8 +242,7 @@ bool Robot::battery_coupled() const {
     // Switched mode only (averaged mode never splits a step into pieces).
     if (params_.battery.internal_resistance_ohm == 0.0) return false;
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        // Bridge off and no current: open circuit, no supply current all step.
-        if (!input_.bridge[m].enable && state_.motor[m].current_A == 0.0) return false;
+        if (open_circuit(m)) return false;  // no supply current all step
     }
     return true;
 }

@@ -143,6 +143,9 @@ class Robot {
     /// advanced (h, or up to a regime change), 0 when refused (a motor stuck
     /// or open-circuit), -1 when the state diverged.
     double joint_substep(double h, EdgeBuffer& edges);
+    /// Switched mode: bridge m is off and motor m's current is zero, so it
+    /// stays zero (open circuit, no supply current) for the rest of the step.
+    [[nodiscard]] bool open_circuit(std::size_t m) const;
     /// Switched mode with both bridges off and no current in either motor:
     /// both shafts coast (or stand), uncoupled, each exactly.
     [[nodiscard]] bool both_coasting() const;
