@@ -48,10 +48,6 @@ void advance_exact_arc(const DiffDriveParams& p, Pose& pose, double right_wheel_
     pose.theta_rad += dtheta;
 }
 
-}  // namespace ddmr::plant
-
-namespace ddmr::plant {
-
 namespace {
 /// sin(a) / a and cos(a) for |a| <= kSmallAngle by their series, with the
 /// first omitted term below 5e-18 (relative; a double rounds at 1.1e-16):
