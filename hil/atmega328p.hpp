@@ -34,6 +34,7 @@ inline constexpr unsigned kElfArchAvr5 = 5;
 namespace vector {
 inline constexpr int kInt0 = 1;
 inline constexpr int kInt1 = 2;
+inline constexpr int kPcint0 = 3;  ///< PCINT1 = 4, PCINT2 = 5: kPcint0 + group
 inline constexpr int kTimer0Ovf = 16;
 inline constexpr int kUsartRx = 18;
 inline constexpr int kUsartUdre = 19;
@@ -70,7 +71,9 @@ inline constexpr uint16_t kPinC = 0x26;
 inline constexpr uint16_t kPortC = 0x28;
 inline constexpr uint16_t kPinD = 0x29;
 inline constexpr uint16_t kPortD = 0x2B;
+inline constexpr uint16_t kPcifr = 0x3B;  ///< PCIF0..2 = bits 0..2
 inline constexpr uint16_t kEifr = 0x3C;   ///< INTF0 = bit 0, INTF1 = bit 1
+inline constexpr uint16_t kEimsk = 0x3D;  ///< INT0 = bit 0, INT1 = bit 1
 inline constexpr uint16_t kMcusr = 0x54;  ///< reset flags
 inline constexpr uint16_t kEecr = 0x3F;
 inline constexpr uint16_t kEedr = 0x40;
@@ -79,7 +82,9 @@ inline constexpr uint16_t kEearH = 0x42;
 inline constexpr uint16_t kSpl = 0x5D;
 inline constexpr uint16_t kSph = 0x5E;
 inline constexpr uint16_t kSreg = 0x5F;
-inline constexpr uint16_t kEicra = 0x69;
+inline constexpr uint16_t kPcicr = 0x68;  ///< PCIE0..2 = bits 0..2
+inline constexpr uint16_t kEicra = 0x69;  ///< ISCn1:0 = bits 2n+1:2n
+inline constexpr uint16_t kPcmsk0 = 0x6B; ///< PCMSK1 = 0x6C, PCMSK2 = 0x6D
 inline constexpr uint16_t kTccr1A = 0x80;
 inline constexpr uint16_t kTccr1B = 0x81;
 inline constexpr uint16_t kOcr1AL = 0x88;

@@ -3,103 +3,302 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <map>
+#include <set>
 #include <stdexcept>
 
-#include "hil/atmega328p.hpp"
+#include "hil/uno_pins.hpp"
 
 namespace ddmr::hil {
 namespace {
 
-using namespace atmega328p;
+using plant::DriverType;
 
-constexpr int kUnoPinCount = 20;  ///< D0..D13 and A0..A5 (14..19)
+/// What a driver type has, per its datasheet's pin names.
+struct DriverSpec {
+    DriverType type;
+    const char* key;
+    const char* label;
+    std::vector<DriverRole> required;
+    std::vector<DriverRole> optional_high;  ///< optional, `high` when left out (nSLEEP pulled up)
+    std::vector<DriverRole> may_be_high;    ///< `high` allowed (a jumper or a pull-up)
+    std::vector<DriverRole> pwm_only;       ///< needs a timer output (named PWM on the module)
+    std::vector<DriverRole> shared;         ///< one pin for both motors of a dual module
+};
 
-std::string where(const YAML::Node& n, const std::string& source) {
-    const YAML::Mark m = n.Mark();
-    if (m.is_null()) return source;
-    return source + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+const std::vector<DriverSpec>& driver_specs() {
+    using R = DriverRole;
+    static const std::vector<DriverSpec> specs = {
+        {DriverType::dir_pwm, "dir-pwm", "L298 shield", {R::pwm, R::dir}, {}, {}, {R::pwm}, {}},
+        {DriverType::l298n, "l298n", "L298N", {R::en, R::in1, R::in2}, {}, {R::en}, {}, {}},
+        {DriverType::tb6612, "tb6612", "TB6612", {R::pwm, R::in1, R::in2, R::stby}, {}, {R::stby}, {R::pwm},
+         {R::stby}},
+        {DriverType::drv8833, "drv8833", "DRV8833", {R::in1, R::in2}, {R::sleep}, {R::sleep}, {}, {R::sleep}},
+    };
+    return specs;
 }
 
-int read_pin(const YAML::Node& n, const std::string& key, const std::string& source) {
-    if (!n.IsScalar()) {
-        throw std::runtime_error(where(n, source) + ": board." + key + " must be a pin number");
+const DriverSpec& spec_of(DriverType t) {
+    for (const DriverSpec& s : driver_specs()) {
+        if (s.type == t) return s;
     }
-    try {
-        return n.as<int>();
-    } catch (const YAML::Exception&) {
-        throw std::runtime_error(where(n, source) + ": board." + key + " = '" + n.Scalar() +
-                                 "' is not an integer pin number");
+    throw std::logic_error("no driver spec");
+}
+
+bool contains(const std::vector<DriverRole>& v, DriverRole r) { return std::find(v.begin(), v.end(), r) != v.end(); }
+
+constexpr std::array<DriverRole, kDriverRoleCount> kAllRoles = {DriverRole::pwm, DriverRole::dir,  DriverRole::en,
+                                                               DriverRole::in1, DriverRole::in2, DriverRole::stby,
+                                                               DriverRole::sleep};
+
+std::string at(const std::string& source, int line) {
+    return line > 0 ? fmt::format("{}:{}", source, line) : source;
+}
+
+[[noreturn]] void fail(const std::string& source, int line, const std::string& key, const std::string& what) {
+    throw std::invalid_argument(fmt::format("{}: key '{}': {}", at(source, line), key, what));
+}
+
+std::string motor_key(std::size_t m, DriverRole r) {
+    return fmt::format("wheels.{}.motor.{}", wheel_name(m), role_key(r));
+}
+
+std::string encoder_key(const EncoderWiring& e, std::size_t m, unsigned s) {
+    return fmt::format("wheels.{}.encoder.{}", wheel_name(m), encoder_signal_key(e, s));
+}
+
+/// Pins 0 and 1 carry the UART the host adapter talks through.
+void check_pin(const std::string& source, int line, const std::string& key, int pin) {
+    if (!uno_pin(pin)) fail(source, line, key, fmt::format("the board has no pin {} (pins 0..13, A0..A5)", pin));
+    if (pin == 0 || pin == 1) {
+        fail(source, line, key, fmt::format("pin {} carries the UART ({}); the host serial adapter needs it", pin,
+                                            pin == 0 ? "RX" : "TX"));
     }
 }
 
 }  // namespace
 
-std::optional<PinLocation> uno_pin_location(int pin) {
-    if (pin < 0 || pin >= kUnoPinCount) return std::nullopt;
-    if (pin <= 7) return PinLocation{'D', pin, reg::kPortD};
-    if (pin <= 13) return PinLocation{'B', pin - 8, reg::kPortB};
-    return PinLocation{'C', pin - 14, reg::kPortC};
-}
-
-std::optional<PwmChannel> uno_pwm_channel(int pin) {
-    switch (pin) {
-        case 9: return PwmChannel{"OC1A", 1, reg::kTccr1A, com_bit::kComA1, reg::kTccr1B, reg::kOcr1AL, reg::kOcr1AH};
-        case 10: return PwmChannel{"OC1B", 1, reg::kTccr1A, com_bit::kComB1, reg::kTccr1B, reg::kOcr1BL, reg::kOcr1BH};
-        case 11: return PwmChannel{"OC2A", 2, reg::kTccr2A, com_bit::kComA1, reg::kTccr2B, reg::kOcr2A, 0};
-        case 3: return PwmChannel{"OC2B", 2, reg::kTccr2A, com_bit::kComB1, reg::kTccr2B, reg::kOcr2B, 0};
-        default: return std::nullopt;
+const char* role_key(DriverRole r) {
+    switch (r) {
+        case DriverRole::pwm: return "PWM";
+        case DriverRole::dir: return "DIR";
+        case DriverRole::en: return "EN";
+        case DriverRole::in1: return "IN1";
+        case DriverRole::in2: return "IN2";
+        case DriverRole::stby: return "STBY";
+        case DriverRole::sleep: return "SLEEP";
     }
+    return "?";
 }
 
-std::optional<int> uno_external_interrupt(int pin) {
-    if (pin == 2) return 0;
-    if (pin == 3) return 1;
-    return std::nullopt;
+const char* board_fqbn(BoardModel model) {
+    return model == BoardModel::nano ? "arduino:avr:nano:cpu=atmega328" : "arduino:avr:uno";
 }
 
-BoardWiring uno_default_board() {
+const char* board_key(BoardModel model) { return model == BoardModel::nano ? "nano" : "uno"; }
+
+const char* wheel_name(std::size_t m) { return m == 0 ? "right" : "left"; }
+
+const char* driver_key(DriverType t) { return spec_of(t).key; }
+const char* driver_label(DriverType t) { return spec_of(t).label; }
+
+std::string input_label(const BoardWiring& b, std::size_t m, DriverRole r) {
+    return fmt::format("{} {} {}", wheel_name(m), driver_label(b.wheel[m].motor.driver), role_key(r));
+}
+
+const char* encoder_signal_key(const EncoderWiring& e, unsigned signal) {
+    if (e.kind == EncoderKind::single) return "OUT";
+    return signal == 0 ? "A" : "B";
+}
+
+BoardWiring default_board() {
     BoardWiring b;
-    b.motor[0] = MotorWiring{10, 12};
-    b.motor[1] = MotorWiring{11, 13};
-    b.encoder[0] = EncoderWiring{2};
-    b.encoder[1] = EncoderWiring{3};
+    const std::array<std::array<int, 3>, 2> pins = {{{10, 12, 2}, {11, 13, 3}}};  // PWM, DIR, encoder
+    for (std::size_t m = 0; m < 2; ++m) {
+        MotorWiring& w = b.wheel[m].motor;
+        w.driver = DriverType::dir_pwm;
+        w[DriverRole::pwm] = InputWire{true, false, pins[m][0], 0};
+        w[DriverRole::dir] = InputWire{true, false, pins[m][1], 0};
+        b.wheel[m].encoder.kind = EncoderKind::single;
+        b.wheel[m].encoder.pin = {pins[m][2], -1};
+    }
     return b;
 }
 
-void validate(const BoardWiring& board, const std::string& source) {
-    std::map<int, std::string> used;
-    const auto claim = [&](int pin, const std::string& key) {
-        if (!uno_pin_location(pin)) {
-            throw std::invalid_argument(source + ": board." + key + " = " + std::to_string(pin) +
-                                        ": the Uno has pins 0 to 19 (A0..A5 = 14..19)");
-        }
-        if (pin == 0 || pin == 1) {
-            throw std::invalid_argument(source + ": board." + key + " = " + std::to_string(pin) +
-                                        ": pins 0 and 1 carry the UART (RX, TX)");
-        }
-        const auto [it, fresh] = used.emplace(pin, key);
-        if (!fresh) {
-            throw std::invalid_argument(source + ": board." + key + " = " + std::to_string(pin) +
-                                        ": pin already used by board." + it->second);
-        }
+void validate(const BoardWiring& board) {
+    const std::string& src = board.source;
+    struct Use {
+        std::string key;
+        std::size_t wheel;
+        DriverRole role;
+        bool shareable;
     };
-    for (std::size_t m = 0; m < board.motor.size(); ++m) {
-        const std::string motor = "motor" + std::to_string(m + 1);
-        claim(board.motor[m].enable_pin, motor + ".enable_pin");
-        if (!uno_pwm_channel(board.motor[m].enable_pin)) {
-            throw std::invalid_argument(fmt::format("{}: board.{}.enable_pin = {}: not a phase-correct PWM pin "
-                                                    "(3, 9, 10 or 11)",
-                                                    source, motor, board.motor[m].enable_pin));
+    std::map<int, Use> used;
+    const auto claim = [&](int pin, int line, const Use& u) {
+        check_pin(src, line, u.key, pin);
+        const auto [it, fresh] = used.emplace(pin, u);
+        if (fresh) return;
+        const Use& first = it->second;
+        // One TB6612 / DRV8833 module drives both motors through one STBY / nSLEEP pin.
+        const bool same_module = u.shareable && first.shareable && first.role == u.role && first.wheel != u.wheel &&
+                                 board.wheel[0].motor.driver == board.wheel[1].motor.driver;
+        if (!same_module) fail(src, line, u.key, fmt::format("pin {} is already used by {}", pin, first.key));
+    };
+    for (std::size_t m = 0; m < 2; ++m) {
+        const MotorWiring& w = board.wheel[m].motor;
+        const DriverSpec& spec = spec_of(w.driver);
+        for (const DriverRole r : kAllRoles) {
+            const InputWire& in = w[r];
+            if (!in.used || in.tied_high) continue;
+            claim(in.pin, in.line, Use{motor_key(m, r), m, r, contains(spec.shared, r)});
+            if (contains(spec.pwm_only, r) && !uno_pin(in.pin)->oc) {
+                fail(src, in.line, motor_key(m, r),
+                     fmt::format("pin {} has no timer output, so analogWrite gives only LOW or HIGH there; the "
+                                 "PWM pins are 3, 5, 6, 9, 10 and 11",
+                                 in.pin));
+            }
         }
-        claim(board.motor[m].direction_pin, motor + ".direction_pin");
     }
-    for (std::size_t e = 0; e < board.encoder.size(); ++e) {
-        claim(board.encoder[e].pin, "encoder" + std::to_string(e + 1) + ".pin");
+    for (std::size_t m = 0; m < 2; ++m) {
+        const EncoderWiring& e = board.wheel[m].encoder;
+        for (unsigned s = 0; s < e.signals(); ++s) {
+            claim(e.pin[s], e.line[s], Use{encoder_key(e, m, s), m, DriverRole::pwm, false});
+        }
     }
 }
 
-std::optional<BoardWiring> load_board_section(const std::filesystem::path& path) {
+std::vector<int> wired_pins(const BoardWiring& board) {
+    std::set<int> pins;
+    for (const WheelWiring& w : board.wheel) {
+        for (const InputWire& in : w.motor.input) {
+            if (in.used && !in.tied_high) pins.insert(in.pin);
+        }
+        for (unsigned s = 0; s < w.encoder.signals(); ++s) pins.insert(w.encoder.pin[s]);
+    }
+    return {pins.begin(), pins.end()};
+}
+
+// --- the file ----------------------------------------------------------------
+
+namespace {
+
+struct Reader {
+    std::string source;
+
+    int line(const YAML::Node& n) const { return n.Mark().is_null() ? 0 : n.Mark().line + 1; }
+    [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
+        throw std::runtime_error(fmt::format("{}: key '{}': {}", at(source, line(n)), key, what));
+    }
+    const YAML::Node& mapping(const YAML::Node& n, const std::string& key) const {
+        if (!n.IsMap()) fail(n, key, "expected a mapping");
+        return n;
+    }
+    void only_keys(const YAML::Node& n, const std::string& key, const std::vector<std::string>& allowed) const {
+        for (const auto& kv : n) {
+            const std::string k = kv.first.Scalar();
+            if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
+                std::string list;
+                for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+                fail(kv.first, key.empty() ? k : fmt::format("{}.{}", key, k), fmt::format("unknown key (expected {})", list));
+            }
+        }
+    }
+    int pin(const YAML::Node& n, const std::string& key) const {
+        if (!n.IsScalar()) fail(n, key, "expected a pin: 0..13 or A0..A5");
+        const auto p = parse_uno_pin_name(n.Scalar());
+        if (!p) {
+            const std::string& s = n.Scalar();
+            if (s == "A6" || s == "A7") fail(n, key, fmt::format("{} is an analog-only input on the Nano, not a digital pin", s));
+            fail(n, key, fmt::format("'{}' is not a pin of the board (pins 0..13, A0..A5, or 14..19)", s));
+        }
+        return *p;
+    }
+    bool boolean(const YAML::Node& n, const std::string& key) const {
+        if (n.IsScalar()) {
+            const std::string& s = n.Scalar();
+            if (s == "true") return true;
+            if (s == "false") return false;
+        }
+        fail(n, key, "expected true or false");
+    }
+
+    MotorWiring motor(const YAML::Node& n, const std::string& key) const {
+        mapping(n, key);
+        if (!n["driver"]) fail(n, key + ".driver", "missing (dir-pwm, l298n, tb6612 or drv8833)");
+        const std::string type = n["driver"].Scalar();
+        const DriverSpec* spec = nullptr;
+        for (const DriverSpec& s : driver_specs()) {
+            if (type == s.key) spec = &s;
+        }
+        if (spec == nullptr) {
+            fail(n["driver"], key + ".driver", fmt::format("unknown driver '{}' (dir-pwm, l298n, tb6612 or drv8833)", type));
+        }
+        MotorWiring w;
+        w.driver = spec->type;
+        std::vector<std::string> allowed = {"driver", "reversed"};
+        for (const DriverRole r : spec->required) allowed.emplace_back(role_key(r));
+        for (const DriverRole r : spec->optional_high) allowed.emplace_back(role_key(r));
+        only_keys(n, key, allowed);
+        if (n["reversed"]) w.reversed = boolean(n["reversed"], key + ".reversed");
+        for (const DriverRole r : kAllRoles) {
+            const bool required = contains(spec->required, r);
+            const bool optional = contains(spec->optional_high, r);
+            if (!required && !optional) continue;
+            InputWire& in = w[r];
+            in.used = true;
+            const std::string k = key + "." + role_key(r);
+            const YAML::Node v = n[role_key(r)];
+            if (!v) {
+                if (required) {
+                    fail(n, k, fmt::format("missing: the {} input {} needs a pin{}", spec->label, role_key(r),
+                                           contains(spec->may_be_high, r) ? " or high" : ""));
+                }
+                in.tied_high = true;  // nSLEEP: breakout boards pull it up
+                continue;
+            }
+            in.line = line(v);
+            if (v.IsScalar() && (v.Scalar() == "high" || v.Scalar() == "HIGH")) {
+                if (!contains(spec->may_be_high, r)) {
+                    fail(v, k, fmt::format("the {} input {} must be wired to a pin, not high", spec->label, role_key(r)));
+                }
+                in.tied_high = true;
+                continue;
+            }
+            in.pin = pin(v, k);
+        }
+        return w;
+    }
+
+    EncoderWiring encoder(const YAML::Node& n, const std::string& key) const {
+        mapping(n, key);
+        if (!n["type"]) fail(n, key + ".type", "missing (single or quadrature)");
+        const std::string type = n["type"].Scalar();
+        EncoderWiring e;
+        if (type == "single") {
+            e.kind = EncoderKind::single;
+            only_keys(n, key, {"type", "OUT", "reversed"});
+        } else if (type == "quadrature") {
+            e.kind = EncoderKind::quadrature;
+            only_keys(n, key, {"type", "A", "B", "reversed"});
+        } else {
+            fail(n["type"], key + ".type", fmt::format("unknown encoder type '{}' (single or quadrature)", type));
+        }
+        if (n["reversed"]) e.reversed = boolean(n["reversed"], key + ".reversed");
+        for (unsigned s = 0; s < e.signals(); ++s) {
+            const char* name = encoder_signal_key(e, s);
+            const YAML::Node v = n[name];
+            if (!v) fail(n, key + "." + name, "missing: the encoder's output pin");
+            e.pin[s] = pin(v, key + "." + name);
+            e.line[s] = line(v);
+        }
+        return e;
+    }
+};
+
+}  // namespace
+
+BoardWiring load_board_file(const std::filesystem::path& path) {
     const std::string source = path.string();
     YAML::Node root;
     try {
@@ -107,48 +306,44 @@ std::optional<BoardWiring> load_board_section(const std::filesystem::path& path)
     } catch (const YAML::BadFile&) {
         throw std::runtime_error(source + ": cannot read the board file");
     } catch (const YAML::ParserException& e) {
-        throw std::runtime_error(source + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+        throw std::runtime_error(fmt::format("{}:{}: malformed YAML: {}", source, e.mark.line + 1, e.msg));
     }
-    if (!root.IsMap() || !root["board"]) return std::nullopt;
-    const YAML::Node section = root["board"];
-    if (!section.IsMap()) throw std::runtime_error(where(section, source) + ": board must be a mapping");
-    BoardWiring board = uno_default_board();
-    for (const auto& kv : section) {
-        const std::string part = kv.first.as<std::string>();
-        const YAML::Node& body = kv.second;
-        int index = -1;
-        bool is_motor = false;
-        if (part == "motor1" || part == "motor2") {
-            is_motor = true;
-            index = part.back() - '1';
-        } else if (part == "encoder1" || part == "encoder2") {
-            index = part.back() - '1';
-        } else {
-            throw std::runtime_error(where(kv.first, source) + ": unknown key board." + part +
-                                     " (expected motor1, motor2, encoder1, encoder2)");
+    const Reader r{source};
+    if (!root.IsMap()) r.fail(root, "board", "a board file is a mapping with the keys board and wheels");
+    r.only_keys(root, "", {"board", "wheels"});
+    BoardWiring b;
+    b.source = source;
+    if (root["board"]) {
+        const YAML::Node n = root["board"];
+        if (n.IsMap()) {
+            r.fail(n, "board", "the old wiring format (motor1/enable_pin, ...) is gone: write board: uno and a "
+                               "wheels: section (docs/boards.md)");
         }
-        if (!body.IsMap()) throw std::runtime_error(where(body, source) + ": board." + part + " must be a mapping");
-        const auto i = static_cast<std::size_t>(index);
-        for (const auto& field : body) {
-            const std::string key = field.first.as<std::string>();
-            const std::string full = fmt::format("{}.{}", part, key);
-            if (is_motor && key == "enable_pin") {
-                board.motor[i].enable_pin = read_pin(field.second, full, source);
-            } else if (is_motor && key == "direction_pin") {
-                board.motor[i].direction_pin = read_pin(field.second, full, source);
-            } else if (!is_motor && key == "pin") {
-                board.encoder[i].pin = read_pin(field.second, full, source);
-            } else {
-                throw std::runtime_error(where(field.first, source) + ": unknown key board." + full);
-            }
-        }
+        const std::string& v = n.Scalar();
+        if (v == "uno") b.model = BoardModel::uno;
+        else if (v == "nano") b.model = BoardModel::nano;
+        else r.fail(n, "board", fmt::format("unknown board '{}' (uno or nano)", v));
+    }
+    if (!root["wheels"]) r.fail(root, "wheels", "missing: the left and right wheels' motor and encoder wiring");
+    const YAML::Node wheels = r.mapping(root["wheels"], "wheels");
+    r.only_keys(wheels, "wheels", {"left", "right"});
+    for (std::size_t m = 0; m < 2; ++m) {
+        const std::string key = fmt::format("wheels.{}", wheel_name(m));
+        const YAML::Node w = wheels[wheel_name(m)];
+        if (!w) r.fail(wheels, key, "missing: both wheels must be described");
+        r.mapping(w, key);
+        r.only_keys(w, key, {"motor", "encoder"});
+        if (!w["motor"]) r.fail(w, key + ".motor", "missing");
+        if (!w["encoder"]) r.fail(w, key + ".encoder", "missing");
+        b.wheel[m].motor = r.motor(w["motor"], key + ".motor");
+        b.wheel[m].encoder = r.encoder(w["encoder"], key + ".encoder");
     }
     try {
-        validate(board, where(section, source));
+        validate(b);
     } catch (const std::invalid_argument& e) {
         throw std::runtime_error(e.what());
     }
-    return board;
+    return b;
 }
 
 }  // namespace ddmr::hil

@@ -1,84 +1,109 @@
 #pragma once
-// The Uno board as data: which Arduino pin is wired to which input of the
-// L298 shield and which Hall sensor drives which pin. One definition, used by
-// the driver reader and the encoder injector; another wiring is a YAML file,
-// not a code change.
+// The robot's wiring as data: which Arduino pin feeds which input of each
+// wheel's motor driver, and which pins each wheel's encoder drives. The
+// parts that touch pins (MotorDriverReader, EncoderInjector, VcdRecorder)
+// take it by reference; plant/ never sees a pin number.
 //
-// Default (the thesis's robot, ddmr_tracking.ino):
-//   motor 1 (right wheel): enable pin 10 (OC1B), direction pin 12
-//   motor 2 (left wheel) : enable pin 11 (OC2A), direction pin 13
-//   encoder 1 (motor 1)  : pin 2 (INT0)
-//   encoder 2 (motor 2)  : pin 3 (INT1)
-//
-// YAML form (a `board:` section, in a --board file or in the --plant file):
-//   board:
-//     motor1:   {enable_pin: 10, direction_pin: 12}
-//     motor2:   {enable_pin: 11, direction_pin: 13}
-//     encoder1: {pin: 2}
-//     encoder2: {pin: 3}
+// File form (docs/boards.md documents every key; `--board FILE`, or a
+// scenario's `board:` key):
+//   board: uno                       # uno (default) or nano
+//   wheels:
+//     right:                         # motor 1, encoder 1 (plant sections motor1/encoder1)
+//       motor:   {driver: dir-pwm, PWM: 10, DIR: 12}
+//       encoder: {type: single, OUT: 2}
+//     left:                          # motor 2, encoder 2
+//       motor:   {driver: l298n, EN: 5, IN1: 7, IN2: 6, reversed: true}
+//       encoder: {type: quadrature, A: 3, B: 12}
+// Default: the thesis's robot (firmware/ddmr_tracking/board.yaml).
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <string>
+#include <vector>
+
+#include "plant/motor_driver.hpp"
 
 namespace ddmr::hil {
 
-/// Where an Arduino Uno digital pin (0..19; 14..19 = A0..A5) sits on the chip.
-struct PinLocation {
-    char port = 'D';    ///< 'B', 'C' or 'D'
-    int bit = 0;        ///< 0..7
-    uint16_t port_register = 0;  ///< PORTx data-space address (output level)
+/// A motor driver input, named as printed on the modules.
+enum class DriverRole : uint8_t { pwm, dir, en, in1, in2, stby, sleep };
+inline constexpr std::size_t kDriverRoleCount = 7;
+/// The board-file key: "PWM", "DIR", "EN", "IN1", "IN2", "STBY", "SLEEP".
+const char* role_key(DriverRole r);
+
+/// What one driver input is connected to.
+struct InputWire {
+    bool used = false;       ///< the driver type has this input
+    bool tied_high = false;  ///< `high`: a jumper or pull-up to Vcc, no pin
+    int pin = -1;            ///< 0..19 when a pin drives it
+    int line = 0;            ///< board-file line (0: not from a file)
 };
-
-/// The Uno pin's port and bit, or nullopt if the Uno has no such pin.
-std::optional<PinLocation> uno_pin_location(int pin);
-
-/// A timer output-compare channel in 8-bit phase-correct PWM, as the Arduino
-/// core's init() configures Timer1 and Timer2 (prescaler 64).
-struct PwmChannel {
-    const char* name = "";         ///< "OC1B", ...
-    int timer = 1;                 ///< 1 or 2
-    uint16_t tccra = 0;            ///< TCCRnA (COM bits)
-    uint8_t com1_mask = 0;         ///< COMnx1: non-inverting output on the pin
-    uint16_t tccrb = 0;            ///< TCCRnB (clock select: starts the counter)
-    uint16_t ocr_low = 0;          ///< OCRnx (low byte)
-    uint16_t ocr_high = 0;         ///< OCRnxH for Timer1's 16-bit registers, else 0
-};
-
-/// The phase-correct PWM channel on this Uno pin (9, 10: Timer1; 3, 11:
-/// Timer2), or nullopt. Pins 5 and 6 (Timer0) run fast PWM, not modelled.
-std::optional<PwmChannel> uno_pwm_channel(int pin);
-
-/// External interrupt on this Uno pin: 0 for pin 2 (INT0), 1 for pin 3 (INT1).
-std::optional<int> uno_external_interrupt(int pin);
 
 struct MotorWiring {
-    int enable_pin = 10;     ///< L298 ENx: a phase-correct PWM pin
-    int direction_pin = 12;  ///< L298 INx: high = forward
+    plant::DriverType driver = plant::DriverType::dir_pwm;
+    std::array<InputWire, kDriverRoleCount> input{};
+    bool reversed = false;  ///< motor leads swapped: the bridge's forward turns the wheel backwards
+    [[nodiscard]] const InputWire& operator[](DriverRole r) const { return input[static_cast<std::size_t>(r)]; }
+    [[nodiscard]] InputWire& operator[](DriverRole r) { return input[static_cast<std::size_t>(r)]; }
 };
+
+enum class EncoderKind : uint8_t { single, quadrature };
 
 struct EncoderWiring {
-    int pin = 2;  ///< the Hall sensor's output
+    EncoderKind kind = EncoderKind::single;
+    std::array<int, 2> pin{-1, -1};  ///< [0]: OUT or A, [1]: B (quadrature)
+    std::array<int, 2> line{0, 0};   ///< board-file lines
+    bool reversed = false;           ///< quadrature channels swapped (B leads A going forward)
+    [[nodiscard]] unsigned signals() const { return kind == EncoderKind::quadrature ? 2U : 1U; }
 };
+
+struct WheelWiring {
+    MotorWiring motor;
+    EncoderWiring encoder;
+};
+
+enum class BoardModel : uint8_t { uno, nano };
 
 struct BoardWiring {
-    std::array<MotorWiring, 2> motor{};      ///< [0]: motor 1 (right), [1]: motor 2 (left)
-    std::array<EncoderWiring, 2> encoder{};  ///< [0]: encoder of motor 1, [1]: of motor 2
+    BoardModel model = BoardModel::uno;
+    /// [0]: the right wheel (motor 1, encoder 1), [1]: the left wheel (motor 2, encoder 2).
+    std::array<WheelWiring, 2> wheel{};
+    std::string source = "built-in default board";  ///< the file it came from (messages)
 };
 
-/// The thesis's robot.
-BoardWiring uno_default_board();
+/// The Arduino FQBN a sketch is built with for this board: arduino:avr:uno,
+/// arduino:avr:nano:cpu=atmega328 (the same ATmega328P at 16 MHz).
+const char* board_fqbn(BoardModel model);
+/// "uno", "nano".
+const char* board_key(BoardModel model);
 
-/// Throws std::invalid_argument naming `source`, the key and the pin when a
-/// pin does not exist on the Uno, an enable pin is not a phase-correct PWM
-/// pin, or two functions share a pin.
-void validate(const BoardWiring& board, const std::string& source);
+/// "right" (index 0) or "left" (1).
+const char* wheel_name(std::size_t m);
+/// "dir-pwm", "l298n", "tb6612", "drv8833".
+const char* driver_key(plant::DriverType t);
+/// The module as a user calls it: "L298 shield", "L298N", "TB6612", "DRV8833".
+const char* driver_label(plant::DriverType t);
+/// "right L298N EN": for warnings and messages.
+std::string input_label(const BoardWiring& b, std::size_t m, DriverRole r);
+/// "OUT", "A" or "B".
+const char* encoder_signal_key(const EncoderWiring& e, unsigned signal);
 
-/// The `board:` section of a YAML file over the defaults; nullopt when the file
-/// has none. Throws std::runtime_error with file:line, key and value for a
-/// malformed file, an unknown key, a non-integer pin or an invalid wiring.
-std::optional<BoardWiring> load_board_section(const std::filesystem::path& path);
+/// The thesis's robot: right PWM 10 / DIR 12 / encoder 2, left PWM 11 / DIR 13 / encoder 3.
+BoardWiring default_board();
+
+/// Throws std::invalid_argument "SOURCE:LINE: key 'K': what is wrong" for a
+/// pin the board lacks, the UART pins, a pin used twice (one dual module's
+/// shared STBY/SLEEP excepted), a PWM input on a pin without a timer output.
+void validate(const BoardWiring& board);
+
+/// Reads a board file. Throws std::runtime_error "FILE:LINE: key 'K': what
+/// is wrong" for malformed YAML, an unknown or missing key, an unknown driver
+/// or encoder type, a bad pin, or an invalid wiring (validate()).
+BoardWiring load_board_file(const std::filesystem::path& path);
+
+/// Every pin the wiring drives or reads, for the parts that watch them.
+std::vector<int> wired_pins(const BoardWiring& board);
 
 }  // namespace ddmr::hil

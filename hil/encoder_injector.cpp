@@ -14,54 +14,73 @@
 namespace ddmr::hil {
 namespace {
 
-int vector_of(int external_interrupt) {
-    return external_interrupt == 0 ? atmega328p::vector::kInt0 : atmega328p::vector::kInt1;
-}
+namespace reg = atmega328p::reg;
+
+bool bit_set(uint8_t value, int bit) { return ((static_cast<unsigned>(value) >> static_cast<unsigned>(bit)) & 1U) != 0; }
+
+/// ISCn1:0 in EICRA (datasheet Table 12-2): 0 low level, 1 any change, 2 falling, 3 rising.
+enum class Sense : uint8_t { low_level = 0, change = 1, falling = 2, rising = 3 };
 
 }  // namespace
 
 EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core_(core) {
-    validate(board, "board");
+    validate(board);
     avr_t* avr = core_.raw();
     for (unsigned ch = 0; ch < 2; ++ch) {
-        const int pin = board.encoder[ch].pin;
-        const PinLocation loc = *uno_pin_location(pin);
-        pin_irq_[ch] = avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ(loc.port)), loc.bit);
-        if (pin_irq_[ch] == nullptr) {
-            throw std::runtime_error("simavr has no IRQ for pin " + std::to_string(pin));
+        const EncoderWiring& w = board.wheel[ch].encoder;
+        for (unsigned s = 0; s < w.signals(); ++s) {
+            Signal& sig = signal_[ch][s];
+            sig.used = true;
+            sig.pin = *uno_pin(w.pin[s]);
+            sig.irq = avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ(sig.pin.port)), sig.pin.bit);
+            if (sig.irq == nullptr) throw std::runtime_error("simavr has no IRQ for pin " + std::to_string(w.pin[s]));
+            sig.vector = sig.pin.ext_int ? atmega328p::vector::kInt0 + *sig.pin.ext_int
+                                         : atmega328p::vector::kPcint0 + sig.pin.pcint_group;
+            // simavr's own "request pending" state of each vector the pin can
+            // raise (1 from the request until the vector is served); the
+            // flag registers cannot tell it: simavr 1.6 does not clear EIFR /
+            // PCIFR flags written with 1, as the chip does.
+            const auto pending_of = [&](int vector) {
+                avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(vector));
+                if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for vector " + std::to_string(vector));
+                return irqs + AVR_INT_IRQ_PENDING;
+            };
+            if (sig.pin.ext_int) sig.ext_pending = pending_of(atmega328p::vector::kInt0 + *sig.pin.ext_int);
+            sig.pcint_pending = pending_of(atmega328p::vector::kPcint0 + sig.pin.pcint_group);
         }
-        interrupt_[ch] = uno_external_interrupt(pin);
+        swapped_[ch] = w.kind == EncoderKind::quadrature && w.reversed;
         isr_entries_[ch].reserve(kRecordedIsrEntries);
-        if (interrupt_[ch]) {
-            avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(vector_of(*interrupt_[ch])));
-            if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for INT" + std::to_string(*interrupt_[ch]));
-            isr_watch_[ch] = IsrWatch{this, ch};
-            avr_irq_register_notify(irqs + AVR_INT_IRQ_RUNNING, &EncoderInjector::on_isr, &isr_watch_[ch]);
-        }
-        pin_register_[ch] = static_cast<uint16_t>(loc.port_register - 2);  // PINx = PORTx - 2
-        pin_bit_[ch] = loc.bit;
+        avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(signal_[ch][0].vector));
+        if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for vector " + std::to_string(signal_[ch][0].vector));
+        isr_watch_[ch] = IsrWatch{this, ch};
+        avr_irq_register_notify(irqs + AVR_INT_IRQ_RUNNING, &EncoderInjector::on_isr, &isr_watch_[ch]);
     }
-    // An AVR reset cancels the edge timer and clears PINx; the sensors still
-    // drive their pins: restore the levels and re-arm for the queued edges.
-    core_.add_reset_listener(this, [this] {
-        for (unsigned ch = 0; ch < 2; ++ch) {
-            uint8_t& pin = core_.raw()->data[pin_register_[ch]];
-            const auto mask = static_cast<uint8_t>(1U << pin_bit_[ch]);
-            pin = pin_irq_[ch]->value != 0 ? static_cast<uint8_t>(pin | mask) : static_cast<uint8_t>(pin & ~mask);
-        }
-        armed_ = false;
-        if (!queue_.empty()) {
-            const Cycles now = core_.cycle();
-            const Cycles at = queue_.front().cycle;
-            armed_ = true;
-            avr_cycle_timer_register(core_.raw(), at > now ? at - now : 0, &EncoderInjector::on_timer, this);
-        }
-    });
+    core_.add_reset_listener(this, [this] { restore_after_reset(); });
 }
 
 EncoderInjector::~EncoderInjector() {
     core_.remove_reset_listener(this);
     avr_cycle_timer_cancel(core_.raw(), &EncoderInjector::on_timer, this);
+}
+
+void EncoderInjector::restore_after_reset() {
+    // An AVR reset cancels the edge timer and clears PINx; the sensors still
+    // drive their pins: restore the levels and re-arm for the queued edges.
+    for (const auto& wheel : signal_) {
+        for (const Signal& s : wheel) {
+            if (!s.used) continue;
+            uint8_t& pin = core_.raw()->data[s.pin.pin_register];
+            const auto mask = static_cast<uint8_t>(1U << static_cast<unsigned>(s.pin.bit));
+            pin = s.irq->value != 0 ? static_cast<uint8_t>(pin | mask) : static_cast<uint8_t>(pin & ~mask);
+        }
+    }
+    armed_ = false;
+    if (!queue_.empty()) {
+        const Cycles now = core_.cycle();
+        const Cycles at = queue_.front().cycle;
+        armed_ = true;
+        avr_cycle_timer_register(core_.raw(), at > now ? at - now : 0, &EncoderInjector::on_timer, this);
+    }
 }
 
 void EncoderInjector::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
@@ -73,8 +92,23 @@ void EncoderInjector::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     ++self->stats_[watch->channel].isr_count;
 }
 
-void EncoderInjector::schedule(unsigned channel, Cycles cycle, bool level) {
-    queue_.push_back(Edge{cycle, channel, level});
+unsigned EncoderInjector::pin_index(unsigned channel, unsigned signal) const {
+    return swapped_[channel] ? 1U - signal : signal;
+}
+
+bool EncoderInjector::level(unsigned channel, unsigned signal) const {
+    const Signal& s = signal_[channel][signal];
+    return s.used && s.irq->value != 0;
+}
+
+void EncoderInjector::drive_now(unsigned channel, unsigned signal, bool level) {
+    const Signal& s = signal_[channel][pin_index(channel, signal)];
+    if (!s.used) throw std::out_of_range("encoder signal not wired");
+    avr_raise_irq(s.irq, level ? 1 : 0);
+}
+
+void EncoderInjector::schedule(unsigned channel, unsigned signal, Cycles cycle, bool level) {
+    queue_.push_back(Edge{cycle, channel, pin_index(channel, signal), level});
     if (!armed_) {
         const Cycles now = core_.cycle();
         armed_ = true;
@@ -95,18 +129,33 @@ uint64_t EncoderInjector::on_timer(struct avr_t* /*avr*/, uint64_t when, void* p
     return self->queue_.front().cycle;
 }
 
-void EncoderInjector::raise(const Edge& e) {
-    EncoderChannelStats& s = stats_[e.channel];
-    if (interrupt_[e.channel]) {
-        const unsigned flag = 1U << static_cast<unsigned>(*interrupt_[e.channel]);
-        if ((core_.data(atmega328p::reg::kEifr) & flag) != 0) {
-            ++s.lost_edges;
-            s.last_lost_cycle = core_.cycle();
-        }
+bool EncoderInjector::request_pending(const Signal& s, bool level) const {
+    if (s.pin.ext_int) {
+        const int n = *s.pin.ext_int;
+        if (!bit_set(core_.data(reg::kEimsk), n)) return false;
+        const auto sense = static_cast<Sense>((static_cast<unsigned>(core_.data(reg::kEicra)) >> (2U * static_cast<unsigned>(n))) & 3U);
+        // Low level has no latch (the request lasts while the pin is low);
+        // an edge of the other polarity requests nothing.
+        const bool requests = sense == Sense::change || (sense == Sense::rising && level) ||
+                              (sense == Sense::falling && !level);
+        if (requests && s.ext_pending->value != 0) return true;
     }
-    ++s.edges_injected;
-    avr_raise_irq(pin_irq_[e.channel], e.level ? 1 : 0);
-    if (edge_listener_) edge_listener_(e.channel, core_.cycle(), e.level);
+    const int g = s.pin.pcint_group;
+    if (!bit_set(core_.data(static_cast<uint16_t>(reg::kPcmsk0 + g)), s.pin.pcint_bit)) return false;
+    if (!bit_set(core_.data(reg::kPcicr), g)) return false;
+    return s.pcint_pending->value != 0;
+}
+
+void EncoderInjector::raise(const Edge& e) {
+    EncoderChannelStats& st = stats_[e.channel];
+    const Signal& s = signal_[e.channel][e.signal];
+    if (request_pending(s, e.level)) {
+        ++st.lost_edges;
+        st.last_lost_cycle = core_.cycle();
+    }
+    ++st.edges_injected;
+    avr_raise_irq(s.irq, e.level ? 1 : 0);
+    if (edge_listener_) edge_listener_(s.pin.number, core_.cycle(), e.level);
 }
 
 }  // namespace ddmr::hil

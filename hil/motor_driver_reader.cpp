@@ -1,142 +1,134 @@
 #include "hil/motor_driver_reader.hpp"
 
-#include <sim_avr.h>
-#include <sim_io.h>
-#include <sim_irq.h>
+#include <fmt/format.h>
 
 #include <algorithm>
-#include <set>
-#include <stdexcept>
-
-#include "hil/atmega328p.hpp"
+#include <cmath>
 
 namespace ddmr::hil {
 namespace {
 
-using Pwm = plant::PhaseCorrectPwm;
-constexpr uint16_t kTop = static_cast<uint16_t>(Pwm::kTop);
-/// The counter is at TOP half a period after BOTTOM.
-constexpr Cycles kTopOffset = static_cast<Cycles>(Pwm::kPeriodCycles / 2);
-constexpr Cycles kPeriod = static_cast<Cycles>(Pwm::kPeriodCycles);
+using plant::BridgeState;
 
-bool port_bit(const AvrCore& core, const PinLocation& pin) {
-    return ((static_cast<unsigned>(core.data(pin.port_register)) >> pin.bit) & 1U) != 0;
+std::vector<int> driver_pins(const BoardWiring& board) {
+    std::vector<int> pins;
+    for (const WheelWiring& w : board.wheel) {
+        for (const InputWire& in : w.motor.input) {
+            if (in.used && !in.tied_high && std::find(pins.begin(), pins.end(), in.pin) == pins.end()) {
+                pins.push_back(in.pin);
+            }
+        }
+    }
+    return pins;
 }
 
-/// The first TOP strictly after `cycle` for a counter at BOTTOM at `bottom`.
-Cycles next_top_after(Cycles cycle, Cycles bottom) {
-    if (cycle < bottom + kTopOffset) return bottom + kTopOffset;
-    const Cycles k = (cycle - bottom - kTopOffset) / kPeriod + 1;
-    return bottom + kTopOffset + k * kPeriod;
+BridgeState mirrored(BridgeState s, bool reversed) {
+    if (!reversed) return s;
+    if (s == BridgeState::forward) return BridgeState::reverse;
+    if (s == BridgeState::reverse) return BridgeState::forward;
+    return s;
+}
+
+template <class T, class V>
+void set_role(T& fields, DriverRole r, V v) {
+    switch (r) {
+        case DriverRole::pwm: fields.pwm = v; break;
+        case DriverRole::dir: fields.dir = v; break;
+        case DriverRole::en: fields.en = v; break;
+        case DriverRole::in1: fields.in1 = v; break;
+        case DriverRole::in2: fields.in2 = v; break;
+        case DriverRole::stby: fields.stby = v; break;
+        case DriverRole::sleep: fields.sleep = v; break;
+    }
 }
 
 }  // namespace
 
-double BridgeDrive::duty() const {
-    if (!pwm_connected) return port_level ? 1.0 : 0.0;
-    if (!timer_running) return latch_high ? 1.0 : 0.0;
-    if (ocr > kTop) return latch_high ? 1.0 : 0.0;
-    return static_cast<double>(ocr) / static_cast<double>(kTop);
-}
-
-uint8_t BridgeDrive::duty_u8() const {
-    return static_cast<uint8_t>(std::lround(duty() * static_cast<double>(kTop)));
-}
-
-bool BridgeDrive::enable_level_at(Cycles cycle) const {
-    if (!pwm_connected) return port_level;
-    if (!timer_running || ocr > kTop) return latch_high;
-    Pwm w;
-    w.ocr = static_cast<uint8_t>(ocr);
-    w.bottom_cycle = static_cast<int64_t>(bottom_cycle);
-    return w.level_at(static_cast<int64_t>(cycle));
-}
-
-Cycles BridgeDrive::next_enable_edge_after(Cycles cycle) const {
-    if (!pwm_connected || !timer_running || ocr == 0 || ocr >= kTop) return kNoEdge;
-    Pwm w;
-    w.ocr = static_cast<uint8_t>(ocr);
-    w.bottom_cycle = static_cast<int64_t>(bottom_cycle);
-    const int64_t next = w.next_edge_after(static_cast<int64_t>(cycle));
-    return next == Pwm::kNever ? kNoEdge : static_cast<Cycles>(next);
-}
-
-MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board) : core_(core) {
-    validate(board, "board");
-    std::set<uint16_t> registers;
-    for (std::size_t m = 0; m < bridge_.size(); ++m) {
-        Bridge& b = bridge_[m];
-        b.wiring = board.motor[m];
-        b.channel = *uno_pwm_channel(b.wiring.enable_pin);
-        b.enable = *uno_pin_location(b.wiring.enable_pin);
-        b.direction = *uno_pin_location(b.wiring.direction_pin);
-        registers.insert({b.channel.tccra, b.channel.tccrb, b.channel.ocr_low, b.enable.port_register,
-                          b.direction.port_register});
-        if (b.channel.ocr_high != 0) registers.insert(b.channel.ocr_high);
-    }
-    for (const uint16_t addr : registers) {
-        avr_irq_t* irq = avr_iomem_getirq(core_.raw(), addr, nullptr, AVR_IOMEM_IRQ_ALL);
-        if (irq == nullptr) throw std::runtime_error("simavr gave no IRQ for register " + std::to_string(addr));
-        avr_irq_register_notify(irq, &MotorDriverReader::on_register, this);
-    }
-    sample_registers();
-    // An AVR reset clears the timer and port registers without a write
-    // notification: read them again (timers stopped, PWM disconnected).
-    core_.add_reset_listener(this, [this] { sample_registers(); });
-}
-
-MotorDriverReader::~MotorDriverReader() { core_.remove_reset_listener(this); }
-
-void MotorDriverReader::on_register(avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {
-    static_cast<MotorDriverReader*>(param)->sample_registers();
-}
-
-uint16_t MotorDriverReader::read_ocr(const Bridge& b) const {
-    uint16_t v = core_.data(b.channel.ocr_low);
-    if (b.channel.ocr_high != 0) v = static_cast<uint16_t>(v | (core_.data(b.channel.ocr_high) << 8));
-    return v;
-}
-
-void MotorDriverReader::sample_registers() {
-    const Cycles now = core_.cycle();
-    for (Bridge& b : bridge_) {
-        BridgeDrive& d = b.drive;
-        const BridgeDrive before = d;
-        const bool running = (core_.data(b.channel.tccrb) & atmega328p::kClockSelectMask) != 0;
-        if (running && !d.timer_running) d.bottom_cycle = now;  // the count starts at BOTTOM
-        d.timer_running = running;
-        d.pwm_connected = (core_.data(b.channel.tccra) & b.channel.com1_mask) != 0;
-        d.port_level = port_bit(core_, b.enable);
-        d.forward = port_bit(core_, b.direction);
-        const uint16_t ocr = read_ocr(b);
-        if (ocr != b.ocr_written) {
-            b.ocr_written = ocr;
-            b.ocr_pending = ocr != d.ocr;
-            b.ocr_effective_cycle = d.timer_running ? next_top_after(now, d.bottom_cycle) : now;
-        }
-        if (d.pwm_connected != before.pwm_connected || d.port_level != before.port_level ||
-            d.forward != before.forward || d.timer_running != before.timer_running) {
-            note_change(now);
+MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board)
+    : board_((validate(board), board)), pins_(core, driver_pins(board)) {
+    for (std::size_t m = 0; m < 2; ++m) {
+        const MotorWiring& w = board_.wheel[m].motor;
+        wheel_[m].driver = w.driver;
+        wheel_[m].reversed = w.reversed;
+        for (std::size_t r = 0; r < kDriverRoleCount; ++r) {
+            const InputWire& in = w.input[r];
+            if (in.used) wheel_[m].inputs.push_back(Input{static_cast<DriverRole>(r), in.tied_high, in.pin});
         }
     }
 }
 
-void MotorDriverReader::advance_to(Cycles cycle) {
-    for (Bridge& b : bridge_) {
-        if (!b.ocr_pending || cycle < b.ocr_effective_cycle) continue;
-        BridgeDrive& d = b.drive;
-        // At TOP the count (255) is above any OCR < TOP: the output is low
-        // there; OCR = TOP holds it high; OCR > TOP keeps whatever it was.
-        if (b.ocr_written > kTop) {
-            if (d.ocr < kTop) d.latch_high = false;
-            else if (d.ocr == kTop) d.latch_high = true;
-        } else {
-            d.latch_high = b.ocr_written == kTop;
-        }
-        d.ocr = b.ocr_written;
-        b.ocr_pending = false;
-        note_change(b.ocr_effective_cycle);
+bool MotorDriverReader::level_of(const Input& in, Cycles cycle) const {
+    if (in.tied_high) return true;
+    // Output: its level; input: the pull-up reads high, a floating input low.
+    return pins_.level_at(in.pin, cycle);
+}
+
+double MotorDriverReader::duty_of(const Input& in) const {
+    if (in.tied_high) return 1.0;
+    return pins_.duty(in.pin);
+}
+
+bool MotorDriverReader::input_level(std::size_t m, DriverRole r, Cycles cycle) const {
+    for (const Input& in : wheel_[m].inputs) {
+        if (in.role == r) return level_of(in, cycle);
     }
+    return false;
+}
+
+BridgeState MotorDriverReader::state_at(std::size_t m, Cycles cycle) const {
+    const Wheel& w = wheel_[m];
+    plant::DriverInputLevels levels;
+    for (const Input& in : w.inputs) set_role(levels, in.role, level_of(in, cycle));
+    return mirrored(plant::bridge_state(w.driver, levels), w.reversed);
+}
+
+Cycles MotorDriverReader::next_change_after(std::size_t m, Cycles cycle) const {
+    Cycles next = kNever;
+    for (const Input& in : wheel_[m].inputs) {
+        if (!in.tied_high) next = std::min(next, pins_.next_change_after(in.pin, cycle));
+    }
+    return next;
+}
+
+plant::BridgeInput MotorDriverReader::input_at(std::size_t m, Cycles cycle) const {
+    const Wheel& w = wheel_[m];
+    plant::DriverInputDuties duties;
+    for (const Input& in : w.inputs) set_role(duties, in.role, duty_of(in));
+    const plant::BridgeAverage avg = plant::average_bridge(w.driver, duties);
+    plant::BridgeInput b;
+    b.state = state_at(m, cycle);
+    const double forward = w.reversed ? avg.reverse : avg.forward;
+    const double reverse = w.reversed ? avg.forward : avg.reverse;
+    if (forward > reverse) {
+        b.duty = forward - reverse;
+        b.forward = true;
+    } else if (reverse > forward) {
+        b.duty = reverse - forward;
+        b.forward = false;
+    } else {
+        // Not driven: the direction the inputs select, for the logs (the
+        // thesis's shield: its DIR pin).
+        b.duty = 0.0;
+        b.forward = w.driver == plant::DriverType::dir_pwm ? duties.dir >= 0.5 : true;
+        if (w.reversed && w.driver == plant::DriverType::dir_pwm) b.forward = !b.forward;
+    }
+    b.brake = avg.brake;
+    return b;
+}
+
+std::vector<std::string> MotorDriverReader::wiring_warnings() const {
+    std::vector<std::string> out;
+    for (std::size_t m = 0; m < 2; ++m) {
+        for (const Input& in : wheel_[m].inputs) {
+            if (in.tied_high || pins_.ever_output(in.pin)) continue;
+            const bool pullup = pins_.mode(in.pin) == PinMode::input_pullup;
+            out.push_back(fmt::format("pin {} ({}) is never set as an output: the driver sees only {}",
+                                      uno_pin_label(in.pin).substr(uno_pin_label(in.pin)[0] == 'D' ? 1 : 0),
+                                      input_label(board_, m, in.role),
+                                      pullup ? "the pull-up (high)" : "a floating input (read as low)"));
+        }
+    }
+    return out;
 }
 
 }  // namespace ddmr::hil

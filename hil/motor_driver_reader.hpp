@@ -1,110 +1,89 @@
 #pragma once
-// MotorDriverReader: what the firmware drives on each L298 bridge, decoded
-// from the timer and port registers (simavr 1.6 does not emulate 8-bit
-// phase-correct PWM, the mode Arduino's init() gives Timers 1 and 2).
+// MotorDriverReader: what each wheel's motor driver does, from the levels
+// the firmware puts on the driver's input pins (PinWaveforms) and the
+// driver's truth table (plant/motor_driver.hpp).
 //
-// Signals (simavr iomem notifications, after each write): TCCRnA (COM bits),
-// TCCRnB (clock select), OCRnx, and the PORT registers of the enable and
-// direction pins of the board's wiring.
+//   board wiring (pin or `high` per driver input)
+//   + pin waveforms (timer PWM of every mode, static levels, inputs)
+//   => per wheel: the bridge state at any cycle (switched model), the next
+//      cycle it may change, and the time-averaged drive (averaged model).
 //
-// The decoded drive, per bridge, follows the ATmega328P datasheet (15.9.4,
-// 18.7.4: phase-correct PWM, non-inverting, COMnx1 = 1):
-//   - COMnx1 clear: the enable pin is a plain output at its PORT bit
-//     (analogWrite(pin, 0/255) and digitalWrite do this);
-//   - COMnx1 set: the pin is the waveform: high while TCNT < OCR on the
-//     0..255..0 count (period 2 x 255 x 64 = 32,640 cycles, 490.2 Hz);
-//     OCR = 0 continuously low, OCR = 255 (TOP) continuously high;
-//   - OCR is double-buffered: a write takes effect at the next TOP;
-//   - OCR > 255 (a negative analogWrite on Timer1's 16-bit OCR1B: -30 is
-//     stored as 65506) never matches the 8-bit count, so the pin keeps the
-//     level it had at the TOP where the value was loaded: low after any OCR
-//     below TOP, high after OCR = TOP. Timer2's 8-bit OCR2A wraps instead
-//     (-30 -> 226: 88.6 % duty). Whatever the firmware writes is what the
-//     robot gets;
-//   - the counter starts at BOTTOM when TCCRnB's clock select leaves 0 (the
-//     shared prescaler's phase, at most 63 cycles, is not modelled).
-// The direction pin is its PORT bit (high = forward). DDR is not checked.
+// A driver input on a pin the firmware never made an output reads, per the
+// driver's datasheet:
+//   pull-up on (PORT = 1): high (the AVR's 20-50 kOhm pull-up overrides the
+//     TB6612's 200 kOhm and the DRV8833's 150 kOhm / 500 kOhm pull-downs;
+//     the L298's TTL input reads it high);
+//   floating (PORT = 0): low (TB6612: internal 200 kOhm pull-down, p. 2;
+//     DRV8833: internal pull-downs, section 7.3.4; L298: no pull-down is
+//     specified and a floating TTL input is undefined: modelled low).
+// Each such input is reported by wiring_warnings() (wiring bugs are real).
+// A wheel with `reversed: true` has its motor leads swapped: the bridge's
+// forward turns it backwards.
 
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
-#include "plant/pwm_waveform.hpp"
-
-struct avr_irq_t;
+#include "hil/pin_waveforms.hpp"
+#include "plant/bridge_driver.hpp"
+#include "plant/motor_driver.hpp"
 
 namespace ddmr::hil {
 
-/// The drive of one bridge over an interval in which no register changes.
-struct BridgeDrive {
-    bool pwm_connected = false;   ///< COMnx1 set: the timer drives the enable pin
-    bool timer_running = false;   ///< TCCRnB clock select != 0
-    uint16_t ocr = 0;             ///< OCR in effect (after the TOP update)
-    bool latch_high = false;      ///< output level kept while OCR > TOP
-    bool port_level = false;      ///< enable pin's PORT bit (used when not PWM)
-    bool forward = false;         ///< direction pin's PORT bit
-    Cycles bottom_cycle = 0;      ///< a cycle at which the counter was at BOTTOM
-
-    /// Mean enable level over a PWM period, [0, 1] (the averaged model's duty).
-    double duty() const;
-    /// The 8-bit value analogWrite's waveform uses (for logging): OCR clamped.
-    uint8_t duty_u8() const;
-    /// Enable pin level during `cycle`.
-    bool enable_level_at(Cycles cycle) const;
-    /// First cycle after `cycle` at which the enable level changes, or
-    /// kNoEdge when it is constant.
-    Cycles next_enable_edge_after(Cycles cycle) const;
-    static constexpr Cycles kNoEdge = ~Cycles{0};
-};
-
 class MotorDriverReader {
 public:
-    MotorDriverReader(AvrCore& core, const BoardWiring& board);
-    ~MotorDriverReader();
-    MotorDriverReader(const MotorDriverReader&) = delete;
-    MotorDriverReader& operator=(const MotorDriverReader&) = delete;
+    static constexpr Cycles kNever = PinWaveforms::kNever;
 
-    /// Applies OCR updates whose TOP has come by `cycle`. Call with
-    /// non-decreasing cycles before reading drive().
-    void advance_to(Cycles cycle);
-    /// The drive of motor `m` (0: motor 1, 1: motor 2) as of the last advance_to.
-    const BridgeDrive& drive(std::size_t m) const { return bridge_[m].drive; }
-    /// Register writes that changed a bridge's drive so far.
-    uint64_t changes() const { return changes_; }
-    /// The cycle of the first drive change since the last call (an OCR
-    /// update counts at its TOP), or nullopt: for measuring input latency.
-    std::optional<Cycles> take_first_change() {
-        auto c = first_change_;
-        first_change_.reset();
-        return c;
-    }
+    MotorDriverReader(AvrCore& core, const BoardWiring& board);
+
+    /// Applies buffered timer updates due by `cycle` (non-decreasing); call
+    /// before reading the drive at that cycle.
+    void advance_to(Cycles cycle) { pins_.advance_to(cycle); }
+
+    /// Wheel m's bridge input as of the last advance_to: the averaged drive
+    /// (duty = net fraction of the period driven, forward = its direction as
+    /// the wheel turns, brake fraction) and the state during `cycle`.
+    [[nodiscard]] plant::BridgeInput input_at(std::size_t m, Cycles cycle) const;
+    /// The bridge state of wheel m during `cycle`.
+    [[nodiscard]] plant::BridgeState state_at(std::size_t m, Cycles cycle) const;
+    /// First cycle after `cycle` at which an input of wheel m's driver may change level, or kNever.
+    [[nodiscard]] Cycles next_change_after(std::size_t m, Cycles cycle) const;
+    /// What the driver reads on input `r` of wheel m during `cycle`.
+    [[nodiscard]] bool input_level(std::size_t m, DriverRole r, Cycles cycle) const;
+
+    /// One line per wired driver input the firmware never made an output
+    /// (call at the end of a run): "pin 12 (right L298N EN) is never set as
+    /// an output: the driver sees only the pull-up".
+    [[nodiscard]] std::vector<std::string> wiring_warnings() const;
+
+    [[nodiscard]] const BoardWiring& board() const { return board_; }
+    [[nodiscard]] PinWaveforms& pins() { return pins_; }
+    [[nodiscard]] const PinWaveforms& pins() const { return pins_; }
+    /// Register accesses that changed a driver input so far.
+    [[nodiscard]] uint64_t changes() const { return pins_.changes(); }
+    std::optional<Cycles> take_first_change() { return pins_.take_first_change(); }
 
 private:
-    struct Bridge {
-        MotorWiring wiring;
-        PwmChannel channel;
-        PinLocation enable;
-        PinLocation direction;
-        BridgeDrive drive;
-        uint16_t ocr_written = 0;      ///< last value the firmware wrote
-        bool ocr_pending = false;
-        Cycles ocr_effective_cycle = 0;
+    struct Input {
+        DriverRole role;
+        bool tied_high;
+        int pin;
     };
-    static void on_register(avr_irq_t* irq, uint32_t value, void* param);
-    void sample_registers();
-    uint16_t read_ocr(const Bridge& b) const;
+    struct Wheel {
+        plant::DriverType driver;
+        bool reversed;
+        std::vector<Input> inputs;
+    };
+    [[nodiscard]] bool level_of(const Input& in, Cycles cycle) const;
+    [[nodiscard]] double duty_of(const Input& in) const;
 
-    AvrCore& core_;
-    std::array<Bridge, 2> bridge_{};
-    uint64_t changes_ = 0;
-    std::optional<Cycles> first_change_;
-    void note_change(Cycles cycle) {
-        ++changes_;
-        if (!first_change_) first_change_ = cycle;
-    }
+    BoardWiring board_;
+    PinWaveforms pins_;
+    std::array<Wheel, 2> wheel_{};
 };
 
 }  // namespace ddmr::hil

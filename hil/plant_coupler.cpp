@@ -51,29 +51,24 @@ void PlantCoupler::step(Cycles boundary) {
     }
     plant::RobotInput input;
     input.mode = config_.mode;
-    for (std::size_t m = 0; m < 2; ++m) {
-        const BridgeDrive& d = reader_.drive(m);
-        input.bridge[m].forward = d.forward;
-        input.bridge[m].duty = d.duty();
-        input.bridge[m].enable = d.enable_level_at(boundary);
-    }
+    for (std::size_t m = 0; m < 2; ++m) input.bridge[m] = reader_.input_at(m, boundary);
     if ((boundary - start_cycle_) % config_.truth_period_cycles == 0) sample_truth(boundary, input);
+    if (step_listener_) step_listener_(boundary, boundary + config_.step_cycles);
     advance(boundary, boundary + config_.step_cycles, input);
     ++steps_;
     if (hook_) hook_(boundary);
 }
 
 void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
-    if (enable_listener_ && config_.mode != plant::DriveMode::switched) report_enable_waveform(from, to);
     Cycles t = from;
     while (t < to) {
         Cycles next = to;
         if (config_.mode == plant::DriveMode::switched) {
+            // Split at every level change of a driver input, so each PWM
+            // edge falls on a plant step boundary at its exact cycle.
             for (std::size_t m = 0; m < 2; ++m) {
-                const BridgeDrive& d = reader_.drive(m);
-                input.bridge[m].enable = d.enable_level_at(t);
-                next = std::min(next, d.next_enable_edge_after(t));
-                if (enable_listener_) enable_listener_(m, t, input.bridge[m].enable);
+                input.bridge[m].state = reader_.state_at(m, t);
+                next = std::min(next, reader_.next_change_after(m, t));
             }
         }
         robot_.set_input(input);
@@ -83,7 +78,7 @@ void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
         for (const plant::EncoderEdge& e : edges_) {
             // Plant time is AVR time (both start at reset); never in the past.
             const auto c = static_cast<Cycles>(std::llround(e.t_s * static_cast<double>(core_.clock_hz())));
-            injector_.schedule(e.channel, std::max(c, t), e.level);
+            injector_.schedule(e.channel, e.signal, std::max(c, t), e.level);
         }
         if (r.status != plant::StepStatus::ok) {
             status_ = r.status;
@@ -92,16 +87,6 @@ void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
             return;
         }
         t = next;
-    }
-}
-
-void PlantCoupler::report_enable_waveform(Cycles from, Cycles to) {
-    // The same waveform the switched model steps through, for the averaged model.
-    for (std::size_t m = 0; m < 2; ++m) {
-        const BridgeDrive& d = reader_.drive(m);
-        for (Cycles t = from; t < to; t = d.next_enable_edge_after(t)) {
-            enable_listener_(m, t, d.enable_level_at(t));
-        }
     }
 }
 

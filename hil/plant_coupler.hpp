@@ -5,9 +5,10 @@
 // boundary b it
 //   1. takes the bridges' drive from the MotorDriverReader as of b,
 //   2. advances the plant over [b, b + step): in averaged mode in one step
-//      with the duty; in switched mode split at every enable edge of the
-//      synthesised phase-correct waveform, so each PWM edge falls on a plant
-//      step boundary at its exact cycle,
+//      with the time-averaged drive; in switched mode split at every level
+//      change of a driver input (the decoded timer waveforms), each piece
+//      with the bridge state the driver's truth table gives, so each PWM
+//      edge falls on a plant step boundary at its exact cycle,
 //   3. hands the encoder edges of that interval to the EncoderInjector, which
 //      raises them at their exact cycles (all still in the AVR's future).
 // The plant therefore runs one step ahead of the AVR: a register write at
@@ -70,15 +71,11 @@ public:
     /// Called at every boundary, after the plant has been stepped (for parts
     /// that poll the firmware, such as LoopTracer).
     void set_boundary_hook(std::function<void(Cycles)> hook) { hook_ = std::move(hook); }
-    /// Called with the enable level of motor m (0, 1) from `cycle` on, as the
-    /// plant is driven: in switched mode at the start of every plant
-    /// sub-step (each PWM edge), in averaged mode at each boundary and at the
-    /// edges of the phase-correct waveform the duty stands for. Levels may
-    /// repeat; cycles are in the current step, not yet executed by the AVR.
-    /// (For VcdRecorder; inside the simulation: keep it short, do not throw.)
-    void set_enable_listener(std::function<void(std::size_t, Cycles, bool)> listener) {
-        enable_listener_ = std::move(listener);
-    }
+    /// Called at every boundary with the interval [from, to) the plant is
+    /// about to be stepped over, after the drive was read (for VcdRecorder,
+    /// which draws the driver inputs' waveforms over it; inside the
+    /// simulation: keep it short, do not throw).
+    void set_step_listener(std::function<void(Cycles, Cycles)> listener) { step_listener_ = std::move(listener); }
 
     plant::StepStatus status() const { return status_; }
     /// Plant time at which the status stopped being ok [s].
@@ -95,7 +92,6 @@ private:
     static uint64_t on_step(struct avr_t* avr, uint64_t when, void* param);
     void step(Cycles boundary);
     void advance(Cycles from, Cycles to, plant::RobotInput& input);
-    void report_enable_waveform(Cycles from, Cycles to);
     void sample_truth(Cycles boundary, const plant::RobotInput& input);
 
     AvrCore& core_;
@@ -105,7 +101,7 @@ private:
     CouplerConfig config_;
     std::function<void(const TruthSample&)> sink_;
     std::function<void(Cycles)> hook_;
-    std::function<void(std::size_t, Cycles, bool)> enable_listener_;
+    std::function<void(Cycles, Cycles)> step_listener_;
     plant::EdgeBuffer edges_;
     plant::StepStatus status_ = plant::StepStatus::ok;
     double failed_at_s_ = 0.0;

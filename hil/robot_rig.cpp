@@ -1,6 +1,18 @@
 #include "hil/robot_rig.hpp"
 
 namespace ddmr::hil {
+namespace {
+
+/// The plant as the board wires it: each wheel's driver chip and encoder channels.
+plant::RobotParams wired(plant::RobotParams p, const BoardWiring& board) {
+    for (std::size_t m = 0; m < 2; ++m) {
+        p.chip[m] = plant::chip_of(board.wheel[m].motor.driver);
+        p.encoder[m].channels = static_cast<int>(board.wheel[m].encoder.signals());
+    }
+    return p;
+}
+
+}  // namespace
 
 RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
     : config_(config),
@@ -10,8 +22,16 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       eeprom_timing_(core_, config.eeprom_timing),
       driver_(core_, config.board),
       encoders_(core_, config.board),
-      robot_(config.plant),
+      robot_(wired(config.plant, config.board)),
       coupler_(core_, robot_, driver_, encoders_, config.coupler),
-      variables_(core_.elf(), core_) {}
+      variables_(core_.elf(), core_) {
+    // The sensors drive their outputs from power-on: the pins start at the
+    // encoders' levels, so the first edge is a change the firmware sees.
+    for (unsigned m = 0; m < 2; ++m) {
+        for (unsigned s = 0; s < config_.board.wheel[m].encoder.signals(); ++s) {
+            encoders_.drive_now(m, s, robot_.encoder_level(m, s));
+        }
+    }
+}
 
 }  // namespace ddmr::hil

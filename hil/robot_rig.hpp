@@ -5,10 +5,10 @@
 //   UartLink          USART0 <-> host (case bytes in, report out)
 //   EepromPort        EEPROM contents (preload, read back)
 //   EepromWriteTiming EEPE held for the datasheet write time (or simavr's instant writes)
-//   MotorDriverReader timer/port registers => bridge drive (pins per BoardWiring)
+//   MotorDriverReader pin waveforms + driver truth tables => bridge state (pins per BoardWiring)
 //   plant::Robot      motors, driver, battery, encoders, kinematics
 //   PlantCoupler      steps the plant in lockstep, one step ahead of the AVR
-//   EncoderInjector   plant edges => encoder pins at their exact cycles
+//   EncoderInjector   plant edges => encoder pins at their exact cycles (levels from power-on)
 //   FirmwareVariables globals by ELF symbol
 //
 // Construction validates the configuration (throws with the bad value).
@@ -32,7 +32,7 @@ namespace ddmr::hil {
 
 struct RigConfig {
     plant::RobotParams plant = plant::default_robot_params();
-    BoardWiring board = uno_default_board();
+    BoardWiring board = default_board();
     CouplerConfig coupler{};
     EepromTimingMode eeprom_timing = EepromTimingMode::kDatasheet;
     UartTiming uart_timing = UartTiming::kChip;

@@ -25,9 +25,6 @@ constexpr int kTxPin = 1;
 constexpr unsigned kDataBits = 8;
 constexpr unsigned kFrameBits = 1 + kDataBits + 1;
 
-bool port_bit(const AvrCore& core, const PinLocation& pin) {
-    return ((static_cast<unsigned>(core.data(pin.port_register)) >> pin.bit) & 1U) != 0;
-}
 
 std::string pin_name(int pin, const std::string& function) { return "D" + std::to_string(pin) + "_" + function; }
 
@@ -49,17 +46,41 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
     };
     std::vector<PinSignal> pins = {{kRxPin, pin_name(kRxPin, "RX"), true, &rx_.signal},
                                    {kTxPin, pin_name(kTxPin, "TX"), true, &tx_.signal}};
+    // Encoder outputs, then one signal per driver input pin (a pin shared
+    // by both wheels, a dual module's STBY / SLEEP, once).
+    encoder_.clear();
+    driver_pin_.clear();
+    encoder_.reserve(4);
+    driver_pin_.reserve(kUnoPinCount);
     for (std::size_t m = 0; m < 2; ++m) {
-        const std::string n = std::to_string(m + 1);
-        const MotorWiring& w = board.motor[m];
-        const EncoderWiring& e = board.encoder[m];
-        direction_pin_[m] = *uno_pin_location(w.direction_pin);
-        direction_level_[m] = port_bit(core_, direction_pin_[m]);
-        enable_level_[m] = rig_.driver().drive(m).enable_level_at(now);
-        pins.push_back({e.pin, pin_name(e.pin, "encoder" + n), rig_.robot().encoder_level(m), &encoder_[m]});
-        pins.push_back({w.enable_pin, pin_name(w.enable_pin, "enable" + n), enable_level_[m], &enable_[m]});
-        pins.push_back({w.direction_pin, pin_name(w.direction_pin, "direction" + n), direction_level_[m],
-                        &direction_[m]});
+        const EncoderWiring& e = board.wheel[m].encoder;
+        for (unsigned s = 0; s < e.signals(); ++s) {
+            encoder_.push_back(PinTrace{e.pin[s], 0, rig_.encoders().level(static_cast<unsigned>(m), s), false});
+        }
+        for (std::size_t r = 0; r < kDriverRoleCount; ++r) {
+            const InputWire& in = board.wheel[m].motor.input[r];
+            if (!in.used || in.tied_high) continue;
+            if (std::any_of(driver_pin_.begin(), driver_pin_.end(), [&](const PinTrace& t) { return t.pin == in.pin; })) continue;
+            const bool timer = uno_pin(in.pin)->oc.has_value();
+            driver_pin_.push_back(PinTrace{in.pin, 0, rig_.driver().pins().level_at(in.pin, now), timer});
+        }
+    }
+    for (std::size_t m = 0; m < 2; ++m) {
+        const EncoderWiring& e = board.wheel[m].encoder;
+        for (unsigned s = 0; s < e.signals(); ++s) {
+            for (PinTrace& t : encoder_) {
+                if (t.pin == e.pin[s]) pins.push_back({t.pin, pin_name(t.pin, std::string(wheel_name(m)) + "_" + encoder_signal_key(e, s)), t.level, &t.signal});
+            }
+        }
+        for (std::size_t r = 0; r < kDriverRoleCount; ++r) {
+            const InputWire& in = board.wheel[m].motor.input[r];
+            if (!in.used || in.tied_high) continue;
+            for (PinTrace& t : driver_pin_) {
+                if (t.pin != in.pin || t.declared) continue;
+                t.declared = true;
+                pins.push_back({t.pin, pin_name(t.pin, std::string(wheel_name(m)) + "_" + role_key(static_cast<DriverRole>(r))), t.level, &t.signal});
+            }
+        }
     }
     std::stable_sort(pins.begin(), pins.end(), [](const PinSignal& a, const PinSignal& b) { return a.pin < b.pin; });
     for (const PinSignal& p : pins) *p.id = writer_.add_wire("uno", p.name, p.initial);
@@ -82,10 +103,9 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
 
     writer_.add_comment("ddmr-hil HIL run; time in ns of AVR time (cycle x 1e9 / " +
                         std::to_string(core_.clock_hz()) + " Hz, rounded down)");
-    writer_.add_comment("uno.*_RX/_TX: synthesised 8N1 serial frames, idle high; *_encoder*: injected Hall edges");
-    writer_.add_comment(std::string("uno.*_enable*: phase-correct PWM enable waveform as the plant is driven (") +
-                        (rig_.coupler().config().mode == plant::DriveMode::switched ? "switched" : "averaged") +
-                        " mode); *_direction*: PORT bit at its write");
+    writer_.add_comment("uno.*_RX/_TX: synthesised 8N1 serial frames, idle high; D<pin>_<wheel>_OUT/A/B: injected encoder edges");
+    writer_.add_comment("uno.D<pin>_<wheel>_<input>: motor driver inputs; on a timer pin the waveform the plant is "
+                        "driven with (decoded from the timer registers), elsewhere the PORT bit at its write");
     writer_.add_comment("isr.isr_*: 1 from the vector's entry to the end of its RETI");
     writer_.add_comment(profiler_ != nullptr
                             ? "firmware.loop_iteration: exact, +1 at each return of the loop mark (LoopProfiler)"
@@ -101,26 +121,25 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
     rx_irq_ = uart + UART_IRQ_INPUT;
     avr_irq_register_notify(tx_irq_, &VcdRecorder::on_tx, this);
     avr_irq_register_notify(rx_irq_, &VcdRecorder::on_rx, this);
-    for (const PinLocation& p : direction_pin_) {
-        avr_irq_t* irq = avr_iomem_getirq(avr, p.port_register, nullptr, AVR_IOMEM_IRQ_ALL);
-        if (irq == nullptr) throw std::runtime_error("VcdRecorder: simavr gave no IRQ for register " +
-                                                     std::to_string(p.port_register));
+    for (const PinTrace& t : driver_pin_) {
+        if (t.timer_capable) continue;  // drawn as the plant is driven (step listener)
+        const uint16_t port = uno_pin(t.pin)->port_register;
+        avr_irq_t* irq = avr_iomem_getirq(avr, port, nullptr, AVR_IOMEM_IRQ_ALL);
+        if (irq == nullptr) throw std::runtime_error("VcdRecorder: simavr gave no IRQ for register " + std::to_string(port));
         if (std::find(port_irqs_.begin(), port_irqs_.end(), irq) != port_irqs_.end()) continue;
         port_irqs_.push_back(irq);
         avr_irq_register_notify(irq, &VcdRecorder::on_port_write, this);
     }
-    rig_.encoders().set_edge_listener([this](unsigned channel, Cycles cycle, bool level) {
-        writer_.change(encoder_[channel], cycle, level ? 1 : 0);
+    rig_.encoders().set_edge_listener([this](int pin, Cycles cycle, bool level) {
+        for (PinTrace& t : encoder_) {
+            if (t.pin == pin) writer_.change(t.signal, cycle, level ? 1 : 0);
+        }
     });
-    rig_.coupler().set_enable_listener([this](std::size_t m, Cycles cycle, bool level) {
-        if (level == enable_level_[m]) return;
-        enable_level_[m] = level;
-        writer_.change(enable_[m], cycle, level ? 1 : 0);
-    });
+    rig_.coupler().set_step_listener([this](Cycles from, Cycles to) { draw_timer_pins(from, to); });
 }
 
 VcdRecorder::~VcdRecorder() {
-    rig_.coupler().set_enable_listener(nullptr);
+    rig_.coupler().set_step_listener(nullptr);
     rig_.encoders().set_edge_listener(nullptr);
     for (avr_irq_t* irq : port_irqs_) avr_irq_unregister_notify(irq, &VcdRecorder::on_port_write, this);
     avr_irq_unregister_notify(rx_irq_, &VcdRecorder::on_rx, this);
@@ -167,11 +186,28 @@ void VcdRecorder::on_port_write(avr_irq_t* /*irq*/, uint32_t /*value*/, void* pa
 
 void VcdRecorder::sample_directions() {
     const Cycles now = core_.cycle();
-    for (std::size_t m = 0; m < 2; ++m) {
-        const bool level = port_bit(core_, direction_pin_[m]);
-        if (level == direction_level_[m]) continue;
-        direction_level_[m] = level;
-        writer_.change(direction_[m], now, level ? 1 : 0);
+    const PinWaveforms& pins = rig_.driver().pins();
+    for (PinTrace& t : driver_pin_) {
+        if (t.timer_capable) continue;
+        const bool level = pins.level_at(t.pin, now);
+        if (level == t.level) continue;
+        t.level = level;
+        writer_.change(t.signal, now, level ? 1 : 0);
+    }
+}
+
+void VcdRecorder::draw_timer_pins(Cycles from, Cycles to) {
+    // The waveform the plant is driven with over [from, to): every edge of a
+    // timer output at its exact cycle, a static level from the boundary on.
+    const PinWaveforms& pins = rig_.driver().pins();
+    for (PinTrace& t : driver_pin_) {
+        if (!t.timer_capable) continue;
+        for (Cycles c = from; c < to; c = pins.next_change_after(t.pin, c)) {
+            const bool level = pins.level_at(t.pin, c);
+            if (level == t.level) continue;
+            t.level = level;
+            writer_.change(t.signal, c, level ? 1 : 0);
+        }
     }
 }
 

@@ -2,8 +2,9 @@
 // VcdRecorder: what the Uno's pins, its interrupts and the firmware's control
 // loop do during a RobotRig run, as VcdWriter signals (`--vcd FILE`).
 //
-// Signals (scope.name; pins named D<Uno pin>_<function> from the board's
-// wiring; with the default board):
+// Signals (scope.name; pins named D<Uno pin>_<wheel>_<input> from the
+// board's wiring, e.g. with the default board D10_right_PWM, D12_right_DIR,
+// D2_right_OUT):
 //   uno.D0_RX          host -> firmware serial line: idle high, each byte the
 //                      UartLink delivers (UART_IRQ_INPUT) as start bit, 8 data
 //                      bits LSB first, stop bit, at UartLink::cycles_per_bit()
@@ -11,16 +12,15 @@
 //   uno.D1_TX          firmware -> host, the same from the cycle the firmware
 //                      wrote UDR0 (UART_IRQ_OUTPUT); both lines are drawn
 //                      idle high from reset and as 8N1, the sketch's framing
-//   uno.D2_encoder1,   encoder pins: each EncoderInjector edge at the cycle it
-//   uno.D3_encoder2    is raised; before the first edge the Hall sensor's
-//                      initial level (the plant's; simavr's pin reads 0 then)
-//   uno.D10_enable1,   the L298 enable waveform the plant is driven with
-//   uno.D11_enable2    (PlantCoupler's enable listener): in switched mode the
-//                      very edges of the plant's sub-steps; in averaged mode the
-//                      phase-correct PWM the duty stands for, from the same
-//                      registers (simavr 1.6 does not emulate this PWM)
-//   uno.D12_direction1 direction pins: the PORT bit, at the cycle of the
-//   uno.D13_direction2 register write (simavr iomem write notification)
+//   encoder pins       (_OUT, _A, _B) each EncoderInjector edge at the cycle
+//                      it is raised, from the sensor's power-on level
+//   driver inputs      on a pin with a timer output (3, 5, 6, 9, 10, 11): the
+//                      level the plant is driven with (PlantCoupler's step
+//                      listener), the decoded timer waveform with its edges
+//                      at their exact cycles, or the static level from the
+//                      coupling boundary at which the plant saw it; on any
+//                      other pin: the PORT bit at the cycle of the write
+//                      (simavr iomem notification)
 //   isr.isr_<NAME>     one per vector the ELF has a handler for (INT0,
 //                      TIMER0_OVF, USART_UDRE, ...): 1 from the vector's entry
 //                      to the end of its RETI, as IsrMonitor times a duration
@@ -91,6 +91,7 @@ private:
     static void on_port_write(avr_irq_t* irq, uint32_t value, void* param);
     void draw_frame(SerialLine& line, uint8_t byte);
     void sample_directions();
+    void draw_timer_pins(Cycles from, Cycles to);
     void poll_profiler();
 
     RobotRig& rig_;
@@ -103,12 +104,15 @@ private:
     SerialLine tx_, rx_;
     avr_irq_t* tx_irq_ = nullptr;
     avr_irq_t* rx_irq_ = nullptr;
-    std::array<VcdWriter::SignalId, 2> encoder_{};
-    std::array<VcdWriter::SignalId, 2> enable_{};
-    std::array<bool, 2> enable_level_{};
-    std::array<VcdWriter::SignalId, 2> direction_{};
-    std::array<PinLocation, 2> direction_pin_{};
-    std::array<bool, 2> direction_level_{};
+    struct PinTrace {
+        int pin = -1;
+        VcdWriter::SignalId signal = 0;
+        bool level = false;          ///< last level written
+        bool timer_capable = false;  ///< an OC pin: drawn from the plant's view at each step
+        bool declared = false;
+    };
+    std::vector<PinTrace> encoder_;     ///< sized once: signals are declared through pointers into it
+    std::vector<PinTrace> driver_pin_;  ///< likewise
     std::vector<avr_irq_t*> port_irqs_;
     VcdWriter::SignalId loop_ = 0;
     uint32_t loop_count_ = 0;

@@ -30,13 +30,16 @@ constexpr double kMaxCondition = 1e8;
 CoupledMotorStepper::CoupledMotorStepper(const DcMotorParams& motor1, const DcMotorParams& motor2)
     : p_{motor1, motor2} {}
 
-Eigen::Matrix4d CoupledMotorStepper::system_matrix(double s1, double s2, double rb) const {
+Eigen::Matrix4d CoupledMotorStepper::system_matrix(double s1, double s2, double rb, double r1,
+                                                   double r2) const {
     Eigen::Matrix4d a = Eigen::Matrix4d::Zero();
     const std::array<double, 2> s{s1, s2};
+    const std::array<double, 2> r{r1, r2};
     for (std::size_t m = 0; m < 2; ++m) {
         const DcMotorParams& p = p_[m];
         const Eigen::Index i = static_cast<Eigen::Index>(2 * m);
-        a(i, i) = -p.resistance_ohm / p.inductance_H;
+        // R_a + 0.0 == R_a: without bridge resistance A is the thesis robot's, bit for bit.
+        a(i, i) = -(p.resistance_ohm + r[m]) / p.inductance_H;
         a(i, i + 1) = -p.back_emf_V_s_per_rad / p.inductance_H;
         for (std::size_t n = 0; n < 2; ++n) {
             a(i, static_cast<Eigen::Index>(2 * n)) -= s[m] * rb * s[n] / p.inductance_H;
@@ -48,7 +51,7 @@ Eigen::Matrix4d CoupledMotorStepper::system_matrix(double s1, double s2, double 
 }
 
 void CoupledMotorStepper::build(Config& c) const {
-    c.a = system_matrix(c.s1, c.s2, c.rb);
+    c.a = system_matrix(c.s1, c.s2, c.rb, c.r1, c.r2);
     c.h = {-1.0, -1.0};
     c.next_h = 0;
     // det(A) > 0 for valid parameters (each block's det is (R F + K_t K_a) / (L J)
@@ -72,8 +75,14 @@ void CoupledMotorStepper::build(Config& c) const {
     }
 }
 
-std::size_t CoupledMotorStepper::config_for(double s1, double s2, double rb) {
-    auto matches = [&](const Config& c) { return c.rb == rb && c.s1 == s1 && c.s2 == s2; };
+std::size_t CoupledMotorStepper::config_for(const std::array<CoupledTerminal, 2>& u, double rb) {
+    const double s1 = u[0].supply_factor;
+    const double s2 = u[1].supply_factor;
+    const double r1 = u[0].series_resistance_ohm;
+    const double r2 = u[1].series_resistance_ohm;
+    auto matches = [&](const Config& c) {
+        return c.rb == rb && c.s1 == s1 && c.s2 == s2 && c.r1 == r1 && c.r2 == r2;
+    };
     if (matches(configs_[last_config_])) return last_config_;
     for (std::size_t k = 0; k < kConfigs; ++k) {
         if (matches(configs_[k])) return last_config_ = k;
@@ -85,6 +94,8 @@ std::size_t CoupledMotorStepper::config_for(double s1, double s2, double rb) {
     c.s1 = s1;
     c.s2 = s2;
     c.rb = rb;
+    c.r1 = r1;
+    c.r2 = r2;
     build(c);
     return k;
 }
@@ -118,7 +129,7 @@ double CoupledMotorStepper::advance(std::array<DcMotorState, 2>& x,
         if (w_sign[m] == 0.0) return 0.0;
         if (u[m].diode && x[m].current_A == 0.0) return 0.0;
     }
-    const std::size_t ci = config_for(u[0].supply_factor, u[1].supply_factor, rb);
+    const std::size_t ci = config_for(u, rb);
     Config& c = configs_[ci];
     if (!c.usable) return 0.0;
     // Complex eigenvalues: a speed could cross zero more than once in one step.

@@ -4,13 +4,14 @@
 // The pack's internal resistance R_b couples the bridges (eq. 19): each motor
 // sees V_b = V_s - R_b (s_1 I_1 + s_2 I_2), where V_s = V_0 - k AH is the
 // source voltage and s_m the supply factor of bridge m (duty x direction in
-// the averaged model, +-1 while enabled, -sgn(I_m) while its current returns
-// through the flyback diodes). With E_m the terminal voltage bridge m would
-// give at zero supply current (V_s - drop, or V_s + 2 V_f through the diodes),
-// eqs. (9a), (9b) of both motors become one affine system in
-// x = (I_1, w_1, I_2, w_2):
+// the averaged model, +-1 while driving, 0 while braking, -sgn(I_m) while its
+// current returns through the flyback diodes). With E_m the terminal voltage bridge m would
+// give at zero supply current (V_s - drop, or V_s + 2 V_f through the diodes)
+// and R_s,m the bridge's own switches in series (on-resistance while driving,
+// brake resistance while braking, bridge_driver.hpp), eqs. (9a), (9b) of both
+// motors become one affine system in x = (I_1, w_1, I_2, w_2):
 //
-//   L_m dI_m/dt = s_m E_m - R_a,m I_m - K_a,m w_m - s_m R_b (s_1 I_1 + s_2 I_2)
+//   L_m dI_m/dt = s_m E_m - (R_a,m + R_s,m) I_m - K_a,m w_m - s_m R_b (s_1 I_1 + s_2 I_2)
 //   J_m dw_m/dt = K_t,m I_m - F_m w_m - sgn(w_m) T_c,m
 //
 // i.e. x' = A x + b with a 4x4 A (two motor blocks plus the rank-one battery
@@ -19,7 +20,7 @@
 //   x(t) = x_ss + e^{A t} (x0 - x_ss),              x_ss = -A^{-1} b
 //   integral_0^t x = x_ss t + A^{-1} (e^{A t} - I) (x0 - x_ss)
 // with e^{A t} = V e^{Lambda t} V^{-1} from A's eigendecomposition, which is
-// computed once per coupling (s_1, s_2, R_b) and cached: in switched mode
+// computed once per coupling (s_1, s_2, R_b, R_s,1, R_s,2) and cached: in switched mode
 // there are a handful of them, in averaged mode one per duty change.
 //
 // A regime change (a shaft reaching zero speed, where it sticks or reverses;
@@ -42,20 +43,25 @@
 namespace ddmr::plant {
 
 /// What one bridge imposes, in the coupled form: terminal voltage
-/// supply_factor * (emf_V - R_b * supply current of both bridges).
+/// supply_factor * (emf_V - R_b * supply current of both bridges)
+/// - series_resistance_ohm * I.
 struct CoupledTerminal {
     double supply_factor = 0.0;  ///< s_m: battery current per motor ampere [1]
     double emf_V = 0.0;          ///< E_m: the terminal voltage / s_m at zero supply current [V]
     bool diode = false;          ///< bridge off: the current flows through the diodes and must keep its sign
+    /// R_s,m: the bridge's own switches in series with the armature (on- or
+    /// brake resistance) [ohm], >= 0. Not the R_b share: A has that already.
+    double series_resistance_ohm = 0.0;
 };
 
 /// Converts a MotorTerminal built for a battery of zero internal resistance
-/// (l298_driver.hpp's terminal() with battery_resistance_ohm = 0) and the
-/// motor's current into the coupled form. For an open bridge the supply
-/// factor is -sgn(I): the diode current flows back into the pack. Inline:
-/// it runs twice per plant step.
+/// (bridge_driver.hpp's terminal() with battery_resistance_ohm = 0, so its
+/// series resistance is the bridge's own) and the motor's current into the
+/// coupled form. For an open bridge the supply factor is -sgn(I): the diode
+/// current flows back into the pack. Inline: it runs twice per plant step.
 inline CoupledTerminal coupled_terminal(const MotorTerminal& u, double current_A) {
     CoupledTerminal c;
+    c.series_resistance_ohm = u.series_resistance_ohm;
     if (u.kind == MotorTerminal::Kind::driven) {
         c.supply_factor = u.supply_factor;
         // voltage_V = s E; with s = 0 the terminal is shorted (E irrelevant).
@@ -105,8 +111,10 @@ class CoupledMotorStepper {
     [[nodiscard]] DcMotorState state_at(const CoupledSegment& seg, std::size_t m,
                                         double tau_s) const;
 
-    /// The system matrix A for supply factors s1, s2 and R_b (for tests).
-    [[nodiscard]] Eigen::Matrix4d system_matrix(double s1, double s2, double rb_ohm) const;
+    /// The system matrix A for supply factors s1, s2, R_b and the bridges'
+    /// series resistances r1, r2 (for tests).
+    [[nodiscard]] Eigen::Matrix4d system_matrix(double s1, double s2, double rb_ohm,
+                                                double r1_ohm = 0.0, double r2_ohm = 0.0) const;
 
   private:
     void resolve_modes(const CoupledSegment& seg) const;
@@ -121,6 +129,7 @@ class CoupledMotorStepper {
 
     struct Config {
         double s1 = 0.0, s2 = 0.0, rb = -1.0;  ///< key; rb < 0: unused slot
+        double r1 = 0.0, r2 = 0.0;             ///< key: the bridges' series resistances [ohm]
         bool usable = false;                   ///< eigendecomposition well conditioned
         bool real_modes = false;               ///< all eigenvalues real (the usual case)
         double max_imag = 0.0;                 ///< largest |Im lambda| [1/s]
@@ -137,7 +146,7 @@ class CoupledMotorStepper {
         std::array<Eigen::Matrix4d, 2> g{};
         std::size_t next_h = 0;
     };
-    std::size_t config_for(double s1, double s2, double rb);
+    std::size_t config_for(const std::array<CoupledTerminal, 2>& u, double rb);
     void build(Config& c) const;
     std::size_t transition_for(Config& c, double h);
     /// e^{lambda_j tau} for each mode.

@@ -50,7 +50,8 @@ struct DcMotorState {
 struct MotorTerminal {
     enum class Kind {
         /// The bridge forces `voltage_V` across the motor whatever the
-        /// current's sign (averaged model, or switched model while enabled).
+        /// current's sign (averaged model, or switched model while driving
+        /// or braking: bridge_driver.hpp).
         driven,
         /// The bridge is off. Current that still flows returns to the supply
         /// through two flyback diodes, so the terminals see
@@ -65,7 +66,8 @@ struct MotorTerminal {
     /// the supply current is supply_factor * I.
     double supply_factor = 0.0;
     /// Resistance in series with the armature from the supply side [ohm]:
-    /// the battery's R_b as this motor sees it (supply_factor^2 R_b). It
+    /// the battery's R_b as this motor sees it (supply_factor^2 R_b) plus
+    /// the bridge's own conducting switches (on- or brake resistance). It
     /// adds to R_a in eq. (9b), so the motor's own current sags its own
     /// voltage exactly, with no lag.
     double series_resistance_ohm = 0.0;

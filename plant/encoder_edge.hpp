@@ -1,5 +1,5 @@
 #pragma once
-// One Hall-sensor edge as the plant reports it to the HIL, and a
+// One encoder edge as the plant reports it to the HIL, and a
 // fixed-capacity, caller-owned buffer of them (no heap in the step loop).
 
 #include <array>
@@ -9,9 +9,10 @@
 namespace ddmr::plant {
 
 struct EncoderEdge {
-    unsigned channel = 0;  ///< 0: motor 1 (right wheel, pin 2), 1: motor 2 (left wheel, pin 3)
+    unsigned channel = 0;  ///< the motor: 0: motor 1 (right wheel), 1: motor 2 (left wheel)
     double t_s = 0.0;      ///< exact plant time of the edge [s]
-    bool level = false;    ///< the sensor output's level after the edge
+    bool level = false;    ///< the output's level after the edge
+    unsigned signal = 0;   ///< which output changed: 0: A or OUT, 1: B (hall_encoder.hpp)
 };
 
 class EdgeBuffer {

@@ -1,12 +1,15 @@
 #pragma once
 // RobotParams <-> YAML (yaml-cpp). The file has one mapping per part
-// (motor1, motor2, driver, battery, encoder1, encoder2, kinematics,
-// integration), each with the keys of that part's field table. Keys left out
-// keep their embedded default, so a file may override a few values only.
+// (motor1, motor2, driver (the L298), tb6612, drv8833, battery, encoder1,
+// encoder2, kinematics, integration), each with the keys of that part's field
+// table. Keys left out keep their embedded default, so a file may override a
+// few values only. An encoder's resolution is edges_per_motor_rev or
+// edges_per_wheel_rev: the one a section gives replaces the other's default.
 //
 // Rejected, with one line naming the file, line:column, key and value:
 // a missing or unreadable file, malformed YAML, an unknown section or key,
-// a value of the wrong type, NaN/inf, a value outside its range.
+// a value of the wrong type, NaN/inf, a value outside its range, both
+// resolution keys in one encoder section (naming both and their lines).
 
 #include <filesystem>
 #include <stdexcept>
@@ -17,8 +20,8 @@
 
 namespace ddmr::plant {
 
-/// A top-level section the plant loader leaves to the HIL: the Uno wiring
-/// (hil/board.hpp), so one file can describe the robot and its board.
+/// A top-level key the plant loader refuses with a pointer to --board: the
+/// wiring once lived in the plant file and is now a board file (hil/board.hpp).
 inline constexpr const char* kBoardSection = "board";
 
 /// Error in a parameter file; what() is a single line.

@@ -46,7 +46,8 @@ Robot::Robot(const RobotParams& params)
     : params_(validated(params)),
       stepper_{MotorStepper(params_.motor[0]), MotorStepper(params_.motor[1])},
       held_{MotorStepper(held_shaft(params_.motor[0])), MotorStepper(held_shaft(params_.motor[1]))},
-      encoder_{HallEncoder(params_.encoder[0], 0), HallEncoder(params_.encoder[1], 1)},
+      encoder_{HallEncoder(params_.encoder[0], 0, params_.motor[0].gear_ratio),
+               HallEncoder(params_.encoder[1], 1, params_.motor[1].gear_ratio)},
       coupled_(params_.motor[0], params_.motor[1]) {
     reset();
 }
@@ -86,9 +87,16 @@ double Robot::wheel_speed_rad_s(std::size_t m) const {
 double Robot::supply_current_A(std::size_t m) const {
     const BridgeInput& b = input_.bridge[m];
     const double i = state_.motor[m].current_A;
-    const double sign = b.forward ? 1.0 : -1.0;
-    if (input_.mode == DriveMode::averaged) return sign * b.duty * i;
-    if (b.enable) return sign * i;
+    if (input_.mode == DriveMode::averaged) {
+        const double sign = b.forward ? 1.0 : -1.0;
+        return sign * b.duty * i;
+    }
+    switch (b.state) {
+        case BridgeState::forward: return i;
+        case BridgeState::reverse: return -i;
+        case BridgeState::brake: return 0.0;  // the winding is shorted inside the bridge
+        case BridgeState::coast: break;
+    }
     return -std::abs(i);  // bridge off: the current returns through the diodes
 }
 
@@ -104,6 +112,8 @@ double Robot::battery_voltage_V() const {
 bool Robot::input_valid() const {
     for (const BridgeInput& b : input_.bridge) {
         if (!(b.duty >= 0.0 && b.duty <= 1.0)) return false;  // also rejects NaN
+        if (!(b.brake >= 0.0 && b.brake <= 1.0)) return false;
+        if (static_cast<unsigned>(b.state) > static_cast<unsigned>(BridgeState::brake)) return false;
     }
     return true;
 }
@@ -112,7 +122,7 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
     const RobotState before = state_;
     // The battery, eq. (19), couples both motors: V_b = V_0 - k AH - R_b (I_s1 + I_s2).
     // Each motor's own share of the R_b drop is solved exactly with it (as a
-    // series resistance, l298_driver.hpp); the other motor's supply current
+    // series resistance, bridge_driver.hpp); the other motor's supply current
     // and the charge term are held over the step at their midpoint values
     // by a predictor-corrector:
     //   predict: hold them at the start of the step -> mean supply currents;
@@ -129,7 +139,7 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
         double supply_charge_C = 0.0;
         std::array<double, kMotorCount> mean_supply_A{};
         for (std::size_t m = 0; m < kMotorCount; ++m) {
-            const MotorTerminal u = terminal(params_.driver, input_.mode, input_.bridge[m],
+            const MotorTerminal u = terminal(bridge_params(params_, m), input_.mode, input_.bridge[m],
                                              source_V - rb * other_supply_A[m], rb);
             DcMotorState x = before.motor[m];
             if (faults_.shaft_locked[m]) {
@@ -194,7 +204,7 @@ double Robot::joint_substep(double h, EdgeBuffer& edges) {
     const double source_V = faults_.source_V ? *faults_.source_V : source_voltage_V(bp, state_.battery);
     std::array<CoupledTerminal, kMotorCount> u{};
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        const MotorTerminal t = terminal(params_.driver, input_.mode, input_.bridge[m], source_V);
+        const MotorTerminal t = terminal(bridge_params(params_, m), input_.mode, input_.bridge[m], source_V);
         u[m] = coupled_terminal(t, state_.motor[m].current_A);
     }
     std::array<DcMotorState, kMotorCount> x = state_.motor;
@@ -214,7 +224,7 @@ double Robot::joint_substep(double h, EdgeBuffer& edges) {
 }
 
 bool Robot::open_circuit(std::size_t m) const {
-    return !input_.bridge[m].enable && state_.motor[m].current_A == 0.0;
+    return input_.bridge[m].state == BridgeState::coast && state_.motor[m].current_A == 0.0;
 }
 
 bool Robot::both_coasting() const {
@@ -242,7 +252,8 @@ bool Robot::battery_coupled() const {
     // Switched mode only (averaged mode never splits a step into pieces).
     if (params_.battery.internal_resistance_ohm == 0.0) return false;
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        if (open_circuit(m)) return false;  // no supply current all step
+        // No supply current all step: open circuit, or the winding shorted.
+        if (open_circuit(m) || input_.bridge[m].state == BridgeState::brake) return false;
     }
     return true;
 }

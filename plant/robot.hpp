@@ -1,15 +1,19 @@
 #pragma once
-// The robot plant: two DC gear motors on an L298 shield, the battery, two
-// Hall encoders and the differential-drive kinematics, composed.
+// The robot plant: two DC gear motors, each behind one bridge of a motor
+// driver, the battery, two encoders and the differential-drive kinematics,
+// composed. It never sees pins: the HIL turns the input levels into bridge
+// states with the driver's truth table (motor_driver.hpp) and hands them over.
 //
-//   RobotInput (mode, per bridge: enable pin, duty, direction pin)
-//     -> L298 (battery voltage)      => MotorTerminal x2          (l298_driver.hpp)
+//   RobotInput (mode, per bridge: state, or duty, direction and brake fraction)
+//     -> bridge (battery voltage)    => MotorTerminal x2           (bridge_driver.hpp)
 //     -> MotorStepper x2 (exact)     => I, w, shaft angle, charge  (motor_stepper.hpp)
 //     -> HallEncoder x2              => EncoderEdge (exact times)  (hall_encoder.hpp)
 //     -> Battery                     => charge drawn, V_batt       (battery.hpp)
 //     -> kinematics, exact arc       => pose x, y, theta           (diff_drive_kinematics.hpp)
 //
-// Index 0 = motor 1 = RIGHT wheel = encoder on pin 2; index 1 = motor 2 = LEFT.
+// Index 0 = motor 1 = RIGHT wheel; index 1 = motor 2 = LEFT. Each bridge has
+// its chip's parameters (bridge_params(params, m)); the thesis robot's are
+// the L298's.
 //
 // step(dt) holds the input constant over dt and splits it into equal internal
 // steps of at most params.stepper.max_step_s. It never allocates and never
@@ -41,12 +45,12 @@
 #include <cstdint>
 
 #include "plant/battery.hpp"
+#include "plant/bridge_driver.hpp"
 #include "plant/coupled_motors.hpp"
 #include "plant/dc_motor.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/encoder_edge.hpp"
 #include "plant/hall_encoder.hpp"
-#include "plant/l298_driver.hpp"
 #include "plant/motor_stepper.hpp"
 #include "plant/robot_faults.hpp"
 #include "plant/robot_params.hpp"
@@ -74,7 +78,8 @@ struct RobotState {
 
 enum class StepStatus {
     ok,
-    bad_input,      ///< dt not in (0, 10] s, or a duty not in [0, 1] / NaN: nothing advanced
+    bad_input,      ///< dt not in (0, 10] s, a duty or brake fraction not in [0, 1] / NaN,
+                    ///< or an unknown bridge state: nothing advanced
     diverged,       ///< a state became non-finite; the run is stopped (see diverged_at_s)
     edge_overflow,  ///< the EdgeBuffer filled up; EdgeBuffer::dropped() edges were lost
 };
@@ -114,8 +119,13 @@ class Robot {
     /// Battery terminal voltage now, eq. (19) [V].
     [[nodiscard]] double battery_voltage_V() const;
     [[nodiscard]] double charge_drawn_C() const { return state_.battery.charge_drawn_C; }
+    /// Edges of encoder m so far, of all its outputs.
     [[nodiscard]] std::uint64_t edge_count(std::size_t m) const { return encoder_[m].edge_count(); }
-    [[nodiscard]] bool encoder_level(std::size_t m) const { return encoder_[m].level(); }
+    /// The level output `signal` of encoder m has now (0: OUT or A, 1: B);
+    /// the HIL drives the pins to these levels at start-up.
+    [[nodiscard]] bool encoder_level(std::size_t m, unsigned signal = 0) const {
+        return encoder_[m].level(signal);
+    }
 
     [[nodiscard]] StepStatus status() const { return status_; }
     [[nodiscard]] double diverged_at_s() const { return diverged_at_s_; }
@@ -143,18 +153,18 @@ class Robot {
     /// advanced (h, or up to a regime change), 0 when refused (a motor stuck
     /// or open-circuit), -1 when the state diverged.
     double joint_substep(double h, EdgeBuffer& edges);
-    /// Switched mode: bridge m is off and motor m's current is zero, so it
+    /// Switched mode: bridge m coasts and motor m's current is zero, so it
     /// stays zero (open circuit, no supply current) for the rest of the step.
     [[nodiscard]] bool open_circuit(std::size_t m) const;
-    /// Switched mode with both bridges off and no current in either motor:
+    /// Switched mode with both bridges coasting and no current in either motor:
     /// both shafts coast (or stand), uncoupled, each exactly.
     [[nodiscard]] bool both_coasting() const;
     bool coast_substep(double h, EdgeBuffer& edges);
     /// Motor by motor, each exact, with the battery coupling held over h.
     bool substep(double h, EdgeBuffer& edges);
-    /// Switched mode: whether neither motor is open-circuit, i.e. both may
-    /// draw battery current during the step (otherwise holding the idle
-    /// motor's zero current in the other motor's solution is exact).
+    /// Switched mode: whether neither motor is open-circuit or braking, i.e.
+    /// both may draw battery current during the step (otherwise holding the
+    /// idle motor's zero supply current in the other motor's solution is exact).
     [[nodiscard]] bool battery_coupled() const;
     /// Pose, time and the finiteness check at the end of an internal step.
     bool finish_substep(const RobotState& before, double h);

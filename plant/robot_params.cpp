@@ -1,5 +1,7 @@
 #include "plant/robot_params.hpp"
 
+#include <stdexcept>
+#include <string>
 #include <variant>
 
 namespace ddmr::plant {
@@ -28,7 +30,16 @@ RobotParams default_robot_params() {
 
 void validate(const RobotParams& p) {
     for_each_section(p, [](const char* name, const auto& part, const auto&) { validate(part, name); });
+    for (std::size_t m = 0; m < p.chip.size(); ++m) {
+        if (p.chip[m] != DriverChip::l298 && p.chip[m] != DriverChip::tb6612 &&
+            p.chip[m] != DriverChip::drv8833) {
+            throw std::invalid_argument("invalid plant parameter chip[" + std::to_string(m) +
+                                        "] = " + std::to_string(static_cast<int>(p.chip[m])) +
+                                        ": not a known driver chip");
+        }
+    }
 }
+
 
 namespace {
 template <class P, std::size_t N>
@@ -44,10 +55,14 @@ bool fields_equal(const P& a, const P& b, const std::array<Field<P>, N>& table) 
 bool operator==(const RobotParams& a, const RobotParams& b) {
     return fields_equal(a.motor[0], b.motor[0], dc_motor_fields()) &&
            fields_equal(a.motor[1], b.motor[1], dc_motor_fields()) &&
-           fields_equal(a.driver, b.driver, l298_fields()) &&
+           fields_equal(a.driver, b.driver, bridge_fields()) &&
+           fields_equal(a.tb6612, b.tb6612, bridge_fields()) &&
+           fields_equal(a.drv8833, b.drv8833, bridge_fields()) && a.chip == b.chip &&
            fields_equal(a.battery, b.battery, battery_fields()) &&
            fields_equal(a.encoder[0], b.encoder[0], hall_encoder_fields()) &&
            fields_equal(a.encoder[1], b.encoder[1], hall_encoder_fields()) &&
+           a.encoder[0].channels == b.encoder[0].channels &&
+           a.encoder[1].channels == b.encoder[1].channels &&
            fields_equal(a.kinematics, b.kinematics, diff_drive_fields()) &&
            fields_equal(a.stepper, b.stepper, stepper_fields());
 }

@@ -1,19 +1,24 @@
 #pragma once
 // All parameters of the robot plant, one validated struct per part, plus the
-// stepping configuration. Motor/encoder index 0 is motor 1 (RIGHT wheel,
-// encoder on pin 2), index 1 is motor 2 (LEFT wheel, pin 3).
+// stepping configuration. Motor/encoder index 0 is motor 1 (RIGHT wheel),
+// index 1 is motor 2 (LEFT wheel).
 //
 // The embedded defaults (default_robot_params) equal plant/params/default.yaml,
 // which documents each value's unit, range and source (a test checks both).
+// Two things are not in a plant file because the board file decides them
+// (the HIL sets them): which chip drives each motor (`chip`) and how many
+// outputs each encoder has (HallEncoderParams::channels).
 
 #include <array>
+#include <cstddef>
 #include <string>
 
 #include "plant/battery.hpp"
 #include "plant/dc_motor.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/hall_encoder.hpp"
-#include "plant/l298_driver.hpp"
+#include "plant/bridge_driver.hpp"
+#include "plant/motor_driver.hpp"
 #include "plant/param_spec.hpp"
 
 namespace ddmr::plant {
@@ -39,7 +44,14 @@ void validate(const StepperConfig& p, const char* prefix);
 
 struct RobotParams {
     std::array<DcMotorParams, 2> motor{};
-    L298Params driver{};
+    /// The L298's bridges (YAML section `driver:`, the name it had when the
+    /// L298 was the only chip, so older plant files load unchanged).
+    BridgeParams driver = default_bridge_params(DriverChip::l298);
+    BridgeParams tb6612 = default_bridge_params(DriverChip::tb6612);    ///< YAML `tb6612:`
+    BridgeParams drv8833 = default_bridge_params(DriverChip::drv8833);  ///< YAML `drv8833:`
+    /// The chip driving each motor: selects one of the three above. Not a
+    /// YAML key: the HIL sets it from the board file. Default: the thesis's L298 shield.
+    std::array<DriverChip, 2> chip{DriverChip::l298, DriverChip::l298};
     BatteryParams battery{};
     std::array<HallEncoderParams, 2> encoder{};
     DiffDriveParams kinematics{};
@@ -52,7 +64,19 @@ RobotParams default_robot_params();
 /// Throws std::invalid_argument naming "section.key", its value and its range.
 void validate(const RobotParams& p);
 
-/// Field-by-field equality (exact).
+/// The bridge parameters of the chip driving `motor` (0 or 1). Inline: it
+/// runs twice per plant step.
+inline const BridgeParams& bridge_params(const RobotParams& p, std::size_t motor) {
+    switch (p.chip[motor]) {
+        case DriverChip::tb6612: return p.tb6612;
+        case DriverChip::drv8833: return p.drv8833;
+        case DriverChip::l298: break;
+    }
+    return p.driver;
+}
+
+/// Field-by-field equality (exact), the board-set fields (chip, encoder
+/// channels) included.
 bool operator==(const RobotParams& a, const RobotParams& b);
 inline bool operator!=(const RobotParams& a, const RobotParams& b) { return !(a == b); }
 
@@ -61,7 +85,9 @@ template <class R, class V>
 void for_each_section(R& p, V&& v) {
     v("motor1", p.motor[0], dc_motor_fields());
     v("motor2", p.motor[1], dc_motor_fields());
-    v("driver", p.driver, l298_fields());
+    v("driver", p.driver, bridge_fields());
+    v("tb6612", p.tb6612, bridge_fields());
+    v("drv8833", p.drv8833, bridge_fields());
     v("battery", p.battery, battery_fields());
     v("encoder1", p.encoder[0], hall_encoder_fields());
     v("encoder2", p.encoder[1], hall_encoder_fields());

@@ -228,13 +228,8 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     hil::RigConfig c;
     if (o.plant_file) {
         c.plant = plant::load_robot_params(*o.plant_file);
-        if (auto board = hil::load_board_section(*o.plant_file)) c.board = *board;
     }
-    if (o.board_file) {
-        auto board = hil::load_board_section(*o.board_file);
-        if (!board) throw std::runtime_error(o.board_file->string() + ": no 'board:' section");
-        c.board = *board;
-    }
+    if (o.board_file) c.board = hil::load_board_file(*o.board_file);
     c.coupler.mode = o.pwm;
     // PlantCoupler checks this too; here the message names the option.
     const Cycles truth_period = c.coupler.truth_period_cycles;
@@ -613,13 +608,21 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     json encoder = json::object();
     for (unsigned ch = 0; ch < 2; ++ch) {
         const auto& s = result.encoder[ch];
+        const hil::EncoderWiring& w = config.board.wheel[ch].encoder;
+        json pins = json::array();
+        for (unsigned k = 0; k < w.signals(); ++k) pins.push_back(w.pin[k]);
         encoder[fmt::format("channel{}", ch + 1)] = {
-            {"pin", config.board.encoder[ch].pin},
+            {"wheel", hil::wheel_name(ch)},
+            {"type", w.kind == hil::EncoderKind::quadrature ? "quadrature" : "single"},
+            {"pin", w.pin[0]},
+            {"pins", pins},
             {"edges_injected", s.edges_injected},
             {"isr_count", s.isr_count},
             {"lost_edges", s.lost_edges},
         };
     }
+    const std::vector<std::string> wiring_warnings = rig.driver().wiring_warnings();
+    for (const std::string& w : wiring_warnings) std::fprintf(stderr, "ddmr-hil: warning: %s\n", w.c_str());
     json summary = {
         {"firmware",
          {{"path", options.firmware.string()},
@@ -645,6 +648,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"cycles_per_byte", uart.cycles_per_byte()},
           {"timing", options.uart_timing == hil::UartTiming::kChip ? "chip" : "simavr"},
           {"bytes_not_delivered", uart.pending()}}},
+        {"board", {{"file", config.board.source}, {"wiring_warnings", wiring_warnings}}},
         {"encoder", encoder},
         {"end_pose_truth", pose_json(result.end_pose_truth)},
         {"end_pose_firmware", result.end_pose_firmware ? pose_json(*result.end_pose_firmware) : json(nullptr)},

@@ -93,7 +93,9 @@ int run_plant(const PlantOptions& o) {
         std::int64_t next = std::min(end, (c / kSampleCycles + 1) * kSampleCycles);
         if (c < half) next = std::min(next, half);
         for (std::size_t m = 0; m < pl::kMotorCount; ++m) {
-            in.bridge[m].enable = pwm[m].level_at(c);
+            in.bridge[m].state = !pwm[m].level_at(c)    ? pl::BridgeState::coast
+                                 : in.bridge[m].forward ? pl::BridgeState::forward
+                                                        : pl::BridgeState::reverse;
             if (switched) next = std::min(next, pwm[m].next_edge_after(c));
         }
         robot.set_input(in);

@@ -59,8 +59,8 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->check(CLI::IsMember({"chip", "simavr"}))
         ->capture_default_str();
     sub->add_option("--plant", cli->plant_file,
-                    "Plant parameter YAML (over the embedded defaults; may hold a board: section)");
-    sub->add_option("--board", cli->board_file, "Board wiring YAML (a board: section)");
+                    "Plant parameter YAML (over the embedded defaults)");
+    sub->add_option("--board", cli->board_file, "Board file: the robot's wiring (drivers, encoders, pins; docs/boards.md); default: the thesis robot");
     sub->add_option("--pwm", cli->pwm,
                     "Enable-pin model: switched (the 490 Hz waveform, edge by edge) or averaged (duty)")
         ->check(CLI::IsMember({"switched", "averaged"}))

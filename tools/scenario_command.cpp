@@ -1,5 +1,7 @@
 #include "scenario_command.hpp"
 
+#include "hil/board.hpp"
+
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -56,7 +58,7 @@ sc::LoadOptions load_options(const ScenarioCli& cli) {
 
 sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
     sc::Scenario s = sc::load_scenario(file, load_options(cli));
-    if (s.sketch) s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache());
+    if (s.sketch) s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache(), hil::board_fqbn(s.board.model));
     return s;
 }
 

@@ -15,7 +15,7 @@ using namespace ddmr::plant;
 RobotInput input(DriveMode mode, double duty) {
     RobotInput in;
     in.mode = mode;
-    for (BridgeInput& b : in.bridge) b = BridgeInput{true, duty, true};
+    for (BridgeInput& b : in.bridge) b = BridgeInput{BridgeState::forward, duty, true};
     return in;
 }
 
@@ -62,7 +62,9 @@ void BM_Plant12sSwitched(benchmark::State& state) {
         const std::int64_t max_step = 1000;  // the HIL's coupling step
         for (std::int64_t c = 0; c < end;) {
             const std::int64_t next = std::min({end, c + max_step, pwm.next_edge_after(c)});
-            for (BridgeInput& b : in.bridge) b.enable = pwm.level_at(c);
+            for (BridgeInput& b : in.bridge) {
+                b.state = pwm.level_at(c) ? BridgeState::forward : BridgeState::coast;
+            }
             r.set_input(in);
             e.clear();
             benchmark::DoNotOptimize(r.step(cycles_to_s(next - c), e));

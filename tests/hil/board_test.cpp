@@ -1,107 +1,177 @@
-// Board: the Uno wiring as data, its checks, and its YAML form.
+// Board: the robot's wiring as data, its checks, and its file form.
 #include "hil/board.hpp"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 
-#include "plant/params_yaml.hpp"
+#include "hil/uno_pins.hpp"
 #include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
 
 namespace ddmr::test {
 namespace {
+
+using hil::DriverRole;
 
 std::string load_error(const std::string& yaml) {
     TempDir dir;
     std::ofstream(dir / "b.yaml") << yaml;
     try {
-        (void)hil::load_board_section(dir / "b.yaml");
+        (void)hil::load_board_file(dir / "b.yaml");
     } catch (const std::runtime_error& e) {
         return e.what();
     }
     return "";
 }
 
-TEST(Board, DefaultIsTheThesisRobot) {
-    const auto b = hil::uno_default_board();
-    EXPECT_EQ(b.motor[0].enable_pin, 10);
-    EXPECT_EQ(b.motor[0].direction_pin, 12);
-    EXPECT_EQ(b.motor[1].enable_pin, 11);
-    EXPECT_EQ(b.motor[1].direction_pin, 13);
-    EXPECT_EQ(b.encoder[0].pin, 2);
-    EXPECT_EQ(b.encoder[1].pin, 3);
-    EXPECT_NO_THROW(hil::validate(b, "default"));
+hil::BoardWiring load(const std::string& yaml) {
+    TempDir dir;
+    std::ofstream(dir / "b.yaml") << yaml;
+    return hil::load_board_file(dir / "b.yaml");
 }
 
-TEST(Board, UnoPinsMapToTheirPortBits) {
-    // Uno schematic: D0-D7 = PD0-PD7, D8-D13 = PB0-PB5, A0-A5 = PC0-PC5.
-    EXPECT_EQ(hil::uno_pin_location(2)->port, 'D');
-    EXPECT_EQ(hil::uno_pin_location(2)->bit, 2);
-    EXPECT_EQ(hil::uno_pin_location(10)->port, 'B');
-    EXPECT_EQ(hil::uno_pin_location(10)->bit, 2);
-    EXPECT_EQ(hil::uno_pin_location(13)->bit, 5);
-    EXPECT_EQ(hil::uno_pin_location(14)->port, 'C');
-    EXPECT_FALSE(hil::uno_pin_location(20).has_value());
-    EXPECT_FALSE(hil::uno_pin_location(-1).has_value());
-    EXPECT_STREQ(hil::uno_pwm_channel(10)->name, "OC1B");
-    EXPECT_STREQ(hil::uno_pwm_channel(11)->name, "OC2A");
-    EXPECT_FALSE(hil::uno_pwm_channel(5).has_value());  // Timer0: fast PWM
-    EXPECT_EQ(*hil::uno_external_interrupt(3), 1);
-    EXPECT_FALSE(hil::uno_external_interrupt(4).has_value());
-}
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-TEST(Board, InvalidWiringsAreRefusedNamingThePin) {
-    auto b = hil::uno_default_board();
-    b.motor[0].enable_pin = 12;  // also motor 1's direction pin, and not PWM
-    EXPECT_THROW(hil::validate(b, "x"), std::invalid_argument);
-    b = hil::uno_default_board();
-    b.encoder[1].pin = 2;
-    try {
-        hil::validate(b, "x");
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("already used by board.encoder1.pin"), std::string::npos) << e.what();
+TEST(Board, DefaultIsTheThesisRobotAndEqualsTheShippedFile) {
+    const auto b = hil::default_board();
+    EXPECT_EQ(b.wheel[0].motor.driver, plant::DriverType::dir_pwm);
+    EXPECT_EQ(b.wheel[0].motor[DriverRole::pwm].pin, 10);
+    EXPECT_EQ(b.wheel[0].motor[DriverRole::dir].pin, 12);
+    EXPECT_EQ(b.wheel[1].motor[DriverRole::pwm].pin, 11);
+    EXPECT_EQ(b.wheel[1].motor[DriverRole::dir].pin, 13);
+    EXPECT_EQ(b.wheel[0].encoder.pin[0], 2);
+    EXPECT_EQ(b.wheel[1].encoder.pin[0], 3);
+    const auto f = hil::load_board_file(source_dir() / "firmware/ddmr_tracking/board.yaml");
+    for (std::size_t m = 0; m < 2; ++m) {
+        EXPECT_EQ(f.wheel[m].motor.driver, b.wheel[m].motor.driver);
+        for (std::size_t r = 0; r < hil::kDriverRoleCount; ++r) {
+            EXPECT_EQ(f.wheel[m].motor.input[r].used, b.wheel[m].motor.input[r].used) << m << r;
+            EXPECT_EQ(f.wheel[m].motor.input[r].pin, b.wheel[m].motor.input[r].pin) << m << r;
+            EXPECT_EQ(f.wheel[m].motor.input[r].tied_high, b.wheel[m].motor.input[r].tied_high) << m << r;
+        }
+        EXPECT_EQ(f.wheel[m].encoder.kind, b.wheel[m].encoder.kind);
+        EXPECT_EQ(f.wheel[m].encoder.pin, b.wheel[m].encoder.pin);
+        EXPECT_EQ(f.wheel[m].motor.reversed, b.wheel[m].motor.reversed);
     }
-    b = hil::uno_default_board();
-    b.motor[1].direction_pin = 25;
-    EXPECT_THROW(hil::validate(b, "x"), std::invalid_argument);
-    b = hil::uno_default_board();
-    b.motor[1].enable_pin = 6;
-    EXPECT_THROW(hil::validate(b, "x"), std::invalid_argument);
 }
 
-TEST(Board, YamlSectionOverridesTheDefaults) {
-    TempDir dir;
-    std::ofstream(dir / "b.yaml") << "board:\n  encoder1: {pin: 3}\n  encoder2: {pin: 2}\n";
-    const auto b = hil::load_board_section(dir / "b.yaml");
-    ASSERT_TRUE(b.has_value());
-    EXPECT_EQ(b->encoder[0].pin, 3);
-    EXPECT_EQ(b->encoder[1].pin, 2);
-    EXPECT_EQ(b->motor[0].enable_pin, 10);
+TEST(UnoPins, SilkscreenNamesMapToPortsTimersAndInterrupts) {
+    // Datasheet Figure 1-1 and the Arduino core's variants/standard.
+    EXPECT_EQ(hil::uno_pin(2)->port, 'D');
+    EXPECT_EQ(hil::uno_pin(2)->bit, 2);
+    EXPECT_EQ(*hil::uno_pin(2)->ext_int, 0);
+    EXPECT_EQ(*hil::uno_pin(3)->ext_int, 1);
+    EXPECT_EQ(hil::uno_pin(10)->port, 'B');
+    EXPECT_EQ(hil::uno_pin(10)->bit, 2);
+    EXPECT_EQ(hil::uno_pin(10)->ddr_register, 0x24);
+    EXPECT_EQ(hil::uno_pin(10)->port_register, 0x25);
+    EXPECT_EQ(hil::oc_name(*hil::uno_pin(10)->oc), "OC1B");
+    EXPECT_EQ(hil::oc_name(*hil::uno_pin(5)->oc), "OC0B");
+    EXPECT_EQ(hil::oc_name(*hil::uno_pin(6)->oc), "OC0A");
+    EXPECT_EQ(hil::oc_name(*hil::uno_pin(3)->oc), "OC2B");
+    EXPECT_FALSE(hil::uno_pin(4)->oc.has_value());
+    EXPECT_EQ(hil::uno_pin(18)->port, 'C');  // A4 = PC4, PCINT12 in group 1
+    EXPECT_EQ(hil::uno_pin(18)->pcint_group, 1);
+    EXPECT_EQ(hil::uno_pin(18)->pin_register, 0x26);
+    EXPECT_EQ(hil::uno_pin(8)->pcint_group, 0);
+    EXPECT_EQ(hil::uno_pin(7)->pcint_group, 2);
+    EXPECT_FALSE(hil::uno_pin(20).has_value());
+    EXPECT_EQ(*hil::parse_uno_pin_name("A5"), 19);
+    EXPECT_EQ(*hil::parse_uno_pin_name("14"), 14);
+    EXPECT_EQ(*hil::parse_uno_pin_name("D7"), 7);
+    EXPECT_FALSE(hil::parse_uno_pin_name("A6").has_value());  // Nano: analog only
+    EXPECT_FALSE(hil::parse_uno_pin_name("20").has_value());
+    EXPECT_FALSE(hil::parse_uno_pin_name("x").has_value());
 }
 
-TEST(Board, FileWithoutBoardSectionHasNone) {
-    TempDir dir;
-    std::ofstream(dir / "p.yaml") << "battery:\n  capacity_Ah: 2.5\n";
-    EXPECT_FALSE(hil::load_board_section(dir / "p.yaml").has_value());
+TEST(Board, EveryDriverTypeAndEncoderTypeLoads) {
+    const auto b = load(
+        "board: nano\n"
+        "wheels:\n"
+        "  left:\n"
+        "    motor:   {driver: l298n, EN: high, IN1: 7, IN2: A1, reversed: true}\n"
+        "    encoder: {type: quadrature, A: 2, B: A4, reversed: true}\n"
+        "  right:\n"
+        "    motor:   {driver: tb6612, PWM: 9, IN1: 8, IN2: 4, STBY: high}\n"
+        "    encoder: {type: single, OUT: 3}\n");
+    EXPECT_EQ(b.model, hil::BoardModel::nano);
+    const auto& left = b.wheel[1];
+    EXPECT_EQ(left.motor.driver, plant::DriverType::l298n);
+    EXPECT_TRUE(left.motor[DriverRole::en].tied_high);
+    EXPECT_EQ(left.motor[DriverRole::in2].pin, 15);
+    EXPECT_TRUE(left.motor.reversed);
+    EXPECT_EQ(left.encoder.kind, hil::EncoderKind::quadrature);
+    EXPECT_EQ(left.encoder.pin[1], 18);
+    EXPECT_TRUE(left.encoder.reversed);
+    EXPECT_EQ(b.wheel[0].motor[DriverRole::stby].tied_high, true);
+    EXPECT_EQ(hil::input_label(b, 1, DriverRole::in2), "left L298N IN2");
+    // DRV8833: nSLEEP left out is pulled up on breakout boards.
+    const auto d = load(
+        "wheels:\n"
+        "  left:  {motor: {driver: drv8833, IN1: 5, IN2: 6}, encoder: {type: single, OUT: 2}}\n"
+        "  right: {motor: {driver: drv8833, IN1: 9, IN2: 10}, encoder: {type: single, OUT: 3}}\n");
+    EXPECT_EQ(d.model, hil::BoardModel::uno);
+    EXPECT_TRUE(d.wheel[0].motor[DriverRole::sleep].used);
+    EXPECT_TRUE(d.wheel[0].motor[DriverRole::sleep].tied_high);
 }
 
-TEST(Board, PlantFileMayCarryTheBoard) {
-    // One file for robot and wiring: the plant loader leaves `board` to us.
-    TempDir dir;
-    std::ofstream(dir / "robot.yaml") << "board:\n  motor1: {enable_pin: 9, direction_pin: 8}\n";
-    EXPECT_NO_THROW((void)plant::load_robot_params(dir / "robot.yaml"));
-    EXPECT_EQ(hil::load_board_section(dir / "robot.yaml")->motor[0].enable_pin, 9);
+TEST(Board, ADualModulesSharedStandbyPinIsOneModuleNotAPinUsedTwice) {
+    const std::string shared =
+        "wheels:\n"
+        "  left:  {motor: {driver: tb6612, PWM: 5, IN1: 7, IN2: 8, STBY: 4}, encoder: {type: single, OUT: 2}}\n"
+        "  right: {motor: {driver: tb6612, PWM: 6, IN1: 9, IN2: 12, STBY: 4}, encoder: {type: single, OUT: 3}}\n";
+    EXPECT_EQ(load_error(shared), "");
+    // ...but not another input on that pin.
+    const std::string clash =
+        "wheels:\n"
+        "  left:  {motor: {driver: tb6612, PWM: 5, IN1: 7, IN2: 8, STBY: 4}, encoder: {type: single, OUT: 2}}\n"
+        "  right: {motor: {driver: tb6612, PWM: 6, IN1: 4, IN2: 12, STBY: 9}, encoder: {type: single, OUT: 3}}\n";
+    const std::string msg = load_error(clash);
+    EXPECT_TRUE(contains(msg, "b.yaml:2: key 'wheels.left.motor.STBY': pin 4 is already used by wheels.right.motor.IN1"))
+        << msg;
 }
 
-TEST(Board, BadYamlIsRefusedWithFileLineAndKey) {
-    EXPECT_NE(load_error("board:\n  motor3: {enable_pin: 9}\n").find("unknown key board.motor3"), std::string::npos);
-    EXPECT_NE(load_error("board:\n  motor1: {enable: 9}\n").find("board.motor1.enable"), std::string::npos);
-    const auto msg = load_error("board:\n  encoder1: {pin: two}\n");
-    EXPECT_NE(msg.find("b.yaml:2:"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("'two'"), std::string::npos) << msg;
-    EXPECT_NE(load_error("board:\n  encoder1: {pin: 99}\n").find("99"), std::string::npos);
-    EXPECT_NE(load_error("board: [1, 2\n").find("malformed YAML"), std::string::npos);
+TEST(Board, MistakesAreOneLineWithFileLineAndKey) {
+    const std::string head = "wheels:\n  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n";
+    // Unknown driver type.
+    std::string m = load_error(head + "  left:\n    motor: {driver: l293, EN: 5}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "b.yaml:4: key 'wheels.left.motor.driver': unknown driver 'l293'")) << m;
+    // Missing input.
+    m = load_error(head + "  left:\n    motor: {driver: l298n, EN: 5, IN1: 7}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "key 'wheels.left.motor.IN2': missing")) << m;
+    // An input the driver does not have.
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 13, EN: 5}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "key 'wheels.left.motor.EN': unknown key")) << m;
+    // A pin the board lacks.
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: A7}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "b.yaml:4: key 'wheels.left.motor.DIR'")) << m;
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 25}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "'25' is not a pin")) << m;
+    // A pin used twice.
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 13}\n    encoder: {type: single, OUT: 2}\n");
+    EXPECT_TRUE(contains(m, "b.yaml:5: key 'wheels.left.encoder.OUT': pin 2 is already used by wheels.right.encoder.OUT"))
+        << m;
+    // PWM on a pin without a timer output.
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 4, DIR: 13}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "key 'wheels.left.motor.PWM': pin 4 has no timer output")) << m;
+    // `high` where the module has no jumper.
+    m = load_error(head + "  left:\n    motor: {driver: l298n, EN: 5, IN1: high, IN2: 6}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "key 'wheels.left.motor.IN1': the L298N input IN1 must be wired to a pin")) << m;
+    // The UART pins.
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 1}\n    encoder: {type: single, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "pin 1 carries the UART")) << m;
+    // Unknown encoder type, missing B.
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 13}\n    encoder: {type: optical, OUT: 3}\n");
+    EXPECT_TRUE(contains(m, "b.yaml:5: key 'wheels.left.encoder.type': unknown encoder type 'optical'")) << m;
+    m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 13}\n    encoder: {type: quadrature, A: 3}\n");
+    EXPECT_TRUE(contains(m, "key 'wheels.left.encoder.B': missing")) << m;
+    // A missing wheel, the old format, an unknown board, malformed YAML.
+    EXPECT_TRUE(contains(load_error(head), "key 'wheels.left': missing"));
+    EXPECT_TRUE(contains(load_error("board:\n  motor1: {enable_pin: 9}\n"), "old wiring format"));
+    EXPECT_TRUE(contains(load_error("board: mega\n" + head), "unknown board 'mega'"));
+    EXPECT_TRUE(contains(load_error("wheels: [1, 2\n"), "malformed YAML"));
+    EXPECT_TRUE(contains(load_error("wheels: {}\nrobot: 1\n"), "b.yaml:2: key 'robot': unknown key"));
 }
 
 }  // namespace

@@ -16,74 +16,37 @@
 namespace ddmr::test {
 namespace {
 
-using hil::BridgeDrive;
+using plant::BridgeState;
 
-BridgeDrive pwm(uint16_t ocr) {
-    BridgeDrive d;
-    d.pwm_connected = true;
-    d.timer_running = true;
-    d.ocr = ocr;
-    return d;
-}
-
-/// High cycles over one 32,640-cycle period, by walking the edges.
-hil::Cycles high_cycles_per_period(const BridgeDrive& d) {
-    hil::Cycles high = 0;
-    hil::Cycles t = 0;
-    while (t < 32640) {
-        const hil::Cycles next = std::min<hil::Cycles>(d.next_enable_edge_after(t), 32640);
-        if (d.enable_level_at(t)) high += next - t;
-        t = next;
-    }
-    return high;
-}
-
-TEST(BridgeDrive, WaveformIsHighForTwiceOcrTimes64CyclesPerPeriod) {
-    // Phase-correct: high while TCNT < OCR, counting 0..255..0 at 64 cycles per
-    // count: 2 x OCR x 64 cycles high. OCR 50 -> 6400 of 32,640 (19.6 %).
-    EXPECT_EQ(high_cycles_per_period(pwm(50)), 6400u);
-    EXPECT_EQ(high_cycles_per_period(pwm(234)), 2u * 234u * 64u);
-    EXPECT_DOUBLE_EQ(pwm(50).duty(), 50.0 / 255.0);
-    EXPECT_EQ(pwm(0).next_enable_edge_after(0), BridgeDrive::kNoEdge);
-    EXPECT_FALSE(pwm(0).enable_level_at(100));
-    EXPECT_TRUE(pwm(255).enable_level_at(100));  // OCR = TOP: continuously high
-    EXPECT_DOUBLE_EQ(pwm(255).duty(), 1.0);
-}
-
-TEST(BridgeDrive, OcrAboveTopKeepsTheLatchedLevel) {
-    // analogWrite(10, -30) stores 65506 in OCR1B: never equal to the 8-bit count.
-    BridgeDrive d = pwm(65506);
-    d.latch_high = false;
-    EXPECT_DOUBLE_EQ(d.duty(), 0.0);
-    EXPECT_EQ(d.next_enable_edge_after(0), BridgeDrive::kNoEdge);
-    d.latch_high = true;
-    EXPECT_DOUBLE_EQ(d.duty(), 1.0);
-}
-
-TEST(BridgeDrive, PortLevelWhenPwmIsDisconnected) {
-    BridgeDrive d;
-    d.port_level = true;  // digitalWrite(pin, HIGH), analogWrite(pin, 255)
-    EXPECT_DOUBLE_EQ(d.duty(), 1.0);
-    EXPECT_TRUE(d.enable_level_at(12345));
+/// Writes `value` to a data-space register as the firmware would, so the
+/// parts watching it are notified.
+void poke(hil::AvrCore& core, uint16_t reg, uint8_t value) {
+    core.raw()->data[reg] = value;
+    avr_raise_irq(avr_iomem_getirq(core.raw(), reg, nullptr, AVR_IOMEM_IRQ_ALL), value);
 }
 
 struct Rig {
     hil::ElfImage elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core{elf};
-    hil::MotorDriverReader reader{core, hil::uno_default_board()};
+    hil::MotorDriverReader reader{core, hil::default_board()};
     hil::UartLink uart{core};
 };
 
-TEST(MotorDriverReader, SetupLeavesBothBridgesOff) {
+TEST(MotorDriverReader, SetupLeavesBothBridgesCoasting) {
     Rig r;
     r.core.run_until(hil::s_to_cycles(1.0));
     r.reader.advance_to(r.core.cycle());
     for (std::size_t m = 0; m < 2; ++m) {
-        EXPECT_FALSE(r.reader.drive(m).pwm_connected) << m;  // analogWrite(pin, 0) = digitalWrite LOW
-        EXPECT_DOUBLE_EQ(r.reader.drive(m).duty(), 0.0) << m;
-        EXPECT_TRUE(r.reader.drive(m).timer_running) << m;   // init() starts Timers 1 and 2
-        EXPECT_FALSE(r.reader.drive(m).forward) << m;
+        const int pwm_pin = m == 0 ? 10 : 11;
+        EXPECT_FALSE(r.reader.pins().timer_driven(pwm_pin)) << m;  // analogWrite(pin, 0) = digitalWrite LOW
+        EXPECT_EQ(r.reader.pins().mode(pwm_pin), hil::PinMode::output) << m;
+        EXPECT_TRUE(r.reader.pins().timer_of(pwm_pin)->running()) << m;  // init() starts Timers 1 and 2
+        const plant::BridgeInput in = r.reader.input_at(m, r.core.cycle());
+        EXPECT_EQ(in.state, BridgeState::coast) << m;  // PWM (enable) low
+        EXPECT_DOUBLE_EQ(in.duty, 0.0) << m;
+        EXPECT_FALSE(in.forward) << m;  // DIR written low in setup()
     }
+    EXPECT_TRUE(r.reader.wiring_warnings().empty());
 }
 
 TEST(MotorDriverReader, FirstIterationOfCase1DrivesTheHandComputedDuties) {
@@ -99,13 +62,19 @@ TEST(MotorDriverReader, FirstIterationOfCase1DrivesTheHandComputedDuties) {
     ASSERT_EQ(stop, hil::RunStop::kCondition);
     r.uart.send("1");
     r.core.run_until(r.core.cycle() + hil::ms_to_cycles(5.0));  // inside the first delay(9)
-    r.reader.advance_to(r.core.cycle());
-    EXPECT_EQ(r.reader.drive(0).ocr, 234);
-    EXPECT_EQ(r.reader.drive(1).ocr, 159);
-    EXPECT_TRUE(r.reader.drive(0).pwm_connected);
-    EXPECT_TRUE(r.reader.drive(0).forward);
-    EXPECT_TRUE(r.reader.drive(1).forward);
-    EXPECT_NEAR(r.reader.drive(0).duty(), 234.0 / 255.0, 1e-12);
+    const hil::Cycles now = r.core.cycle();
+    r.reader.advance_to(now);
+    EXPECT_DOUBLE_EQ(r.reader.pins().duty(10), 234.0 / 255.0);  // phase correct: OCR / TOP
+    EXPECT_DOUBLE_EQ(r.reader.pins().duty(11), 159.0 / 255.0);
+    EXPECT_TRUE(r.reader.pins().timer_driven(10));
+    const plant::BridgeInput right = r.reader.input_at(0, now);
+    EXPECT_TRUE(right.forward);
+    EXPECT_DOUBLE_EQ(right.duty, 234.0 / 255.0);
+    EXPECT_TRUE(r.reader.input_at(1, now).forward);
+    // Switched: forward while the enable is high, coast while it is low.
+    for (hil::Cycles c = now; c < now + 32640; c = r.reader.next_change_after(0, c)) {
+        EXPECT_EQ(r.reader.state_at(0, c), r.reader.pins().level_at(10, c) ? BridgeState::forward : BridgeState::coast);
+    }
 }
 
 TEST(MotorDriverReader, OcrWritesTakeEffectAtTheNextTop) {
@@ -120,18 +89,78 @@ TEST(MotorDriverReader, OcrWritesTakeEffectAtTheNextTop) {
     avr_raise_irq(avr_iomem_getirq(avr, reg::kOcr1BL, nullptr, AVR_IOMEM_IRQ_ALL), 100);
     const hil::Cycles written = r.core.cycle();
     r.reader.advance_to(written);
-    EXPECT_TRUE(r.reader.drive(0).pwm_connected);  // COM bits act at once
-    EXPECT_NE(r.reader.drive(0).ocr, 100);         // OCR waits for TOP
-    r.reader.advance_to(written + 32640);          // a TOP comes within one period
-    EXPECT_EQ(r.reader.drive(0).ocr, 100);
+    EXPECT_TRUE(r.reader.pins().timer_driven(10));          // COM bits act at once
+    EXPECT_NE(r.reader.pins().duty(10), 100.0 / 255.0);     // OCR waits for TOP
+    r.reader.advance_to(written + 32640);                   // a TOP comes within one period
+    EXPECT_DOUBLE_EQ(r.reader.pins().duty(10), 100.0 / 255.0);
     // Then a negative value: -30 -> 65506 in the 16-bit OCR1B; after any OCR
     // below TOP the output is low at TOP and stays low.
     avr->data[reg::kOcr1BH] = 0xFF;
     avr->data[reg::kOcr1BL] = 0xE2;
     avr_raise_irq(avr_iomem_getirq(avr, reg::kOcr1BL, nullptr, AVR_IOMEM_IRQ_ALL), 0xE2);
     r.reader.advance_to(written + 3 * 32640);
-    EXPECT_EQ(r.reader.drive(0).ocr, 65506);
-    EXPECT_DOUBLE_EQ(r.reader.drive(0).duty(), 0.0);
+    EXPECT_DOUBLE_EQ(r.reader.pins().duty(10), 0.0);
+}
+
+/// An L298N with the EN jumper fitted on the right wheel (IN1 = 7, IN2 = 8)
+/// and a TB6612 on the left (PWM 9, IN1 4, IN2 5, STBY A0): pins the
+/// reference firmware leaves alone, driven here by register writes.
+hil::BoardWiring two_drivers() {
+    hil::BoardWiring b = hil::default_board();
+    hil::MotorWiring& right = b.wheel[0].motor;
+    right = hil::MotorWiring{};
+    right.driver = plant::DriverType::l298n;
+    right[hil::DriverRole::en] = hil::InputWire{true, true, -1, 0};
+    right[hil::DriverRole::in1] = hil::InputWire{true, false, 7, 0};
+    right[hil::DriverRole::in2] = hil::InputWire{true, false, 8, 0};
+    hil::MotorWiring& left = b.wheel[1].motor;
+    left = hil::MotorWiring{};
+    left.driver = plant::DriverType::tb6612;
+    left.reversed = true;
+    left[hil::DriverRole::pwm] = hil::InputWire{true, false, 9, 0};
+    left[hil::DriverRole::in1] = hil::InputWire{true, false, 4, 0};
+    left[hil::DriverRole::in2] = hil::InputWire{true, false, 5, 0};
+    left[hil::DriverRole::stby] = hil::InputWire{true, false, 14, 0};
+    return b;
+}
+
+TEST(MotorDriverReader, TruthTablesFromPinLevels) {
+    hil::ElfImage elf = hil::ElfImage::read(firmware_elf());
+    hil::AvrCore core{elf};
+    hil::MotorDriverReader reader{core, two_drivers()};
+    core.run_until(hil::s_to_cycles(0.1));
+    namespace reg = hil::atmega328p::reg;
+    const auto now = [&] { return core.cycle(); };
+    // Right L298N: IN1 = IN2 = floating inputs (read low): EN high -> brake.
+    EXPECT_EQ(reader.state_at(0, now()), BridgeState::brake);
+    // pinMode(7, OUTPUT); digitalWrite(7, HIGH): forward.
+    poke(core, static_cast<uint16_t>(reg::kPinD + 1), static_cast<uint8_t>(core.data(reg::kPinD + 1) | 0x80));
+    poke(core, reg::kPortD, static_cast<uint8_t>(core.data(reg::kPortD) | 0x80));
+    EXPECT_EQ(reader.state_at(0, now()), BridgeState::forward);
+    // Pin 8 left an input with its pull-up on (PORTB0 = 1): IN2 reads high -> brake.
+    poke(core, reg::kPortB, static_cast<uint8_t>(core.data(reg::kPortB) | 0x01));
+    EXPECT_EQ(reader.state_at(0, now()), BridgeState::brake);
+    // Left TB6612, reversed: STBY (A0) floating -> standby (coast).
+    EXPECT_EQ(reader.state_at(1, now()), BridgeState::coast);
+    // STBY high, IN1 high (pin 4), IN2 low, PWM (pin 9) high: CW = forward,
+    // which the swapped leads turn into reverse.
+    poke(core, static_cast<uint16_t>(reg::kPinC + 1), 0x01);
+    poke(core, reg::kPortC, 0x01);
+    poke(core, static_cast<uint16_t>(reg::kPinD + 1), static_cast<uint8_t>(core.data(reg::kPinD + 1) | 0x30));
+    poke(core, reg::kPortD, static_cast<uint8_t>((core.data(reg::kPortD) | 0x10) & ~0x20));
+    poke(core, reg::kDdrB, static_cast<uint8_t>(core.data(reg::kDdrB) | 0x02));
+    poke(core, reg::kPortB, static_cast<uint8_t>(core.data(reg::kPortB) | 0x02));
+    EXPECT_EQ(reader.state_at(1, now()), BridgeState::reverse);
+    const plant::BridgeInput in = reader.input_at(1, now());
+    EXPECT_FALSE(in.forward);
+    EXPECT_DOUBLE_EQ(in.duty, 1.0);
+    // PWM low: short brake.
+    poke(core, reg::kPortB, static_cast<uint8_t>(core.data(reg::kPortB) & ~0x02));
+    EXPECT_EQ(reader.state_at(1, now()), BridgeState::brake);
+    // Pin 8 (right IN2) was never made an output: one warning naming it.
+    const auto warnings = reader.wiring_warnings();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], "pin 8 (right L298N IN2) is never set as an output: the driver sees only the pull-up (high)");
 }
 
 }  // namespace

@@ -112,8 +112,8 @@ TEST(PlantCoupler, InputLatencyIsBelowOneCouplingStep) {
 
 TEST(PlantCoupler, SwappedEncoderWiringBreaksTracking) {
     hil::RigConfig config;
-    config.board.encoder[0].pin = 3;
-    config.board.encoder[1].pin = 2;
+    config.board.wheel[0].encoder.pin[0] = 3;
+    config.board.wheel[1].encoder.pin[0] = 2;
     const auto run = run_rig_case('1', config);
     // Each wheel's count feeds the other wheel's estimate: the controller
     // steers the wrong way and never converges on the circle.
@@ -122,8 +122,8 @@ TEST(PlantCoupler, SwappedEncoderWiringBreaksTracking) {
 
 TEST(PlantCoupler, SwappedEnableWiringBreaksTracking) {
     hil::RigConfig config;
-    config.board.motor[0].enable_pin = 11;
-    config.board.motor[1].enable_pin = 10;
+    config.board.wheel[0].motor[hil::DriverRole::pwm].pin = 11;
+    config.board.wheel[1].motor[hil::DriverRole::pwm].pin = 10;
     const auto run = run_rig_case('1', config);
     EXPECT_GT(distance_to_circle(run.end_truth, 0.6), 0.3);
 }

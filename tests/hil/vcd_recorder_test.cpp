@@ -43,7 +43,7 @@ TEST(VcdRecorder, AveragedModeStillDrawsThePhaseCorrectWaveform) {
     EXPECT_FALSE(f.has("ddmr_hil.isr.isr_TIMER1_OVF"));  // no handler in the sketch
     // Every complete pulse on pin 11 after the case byte lasts 2 x OCR x 64
     // cycles: a multiple of 8,000 ns (1 ns of rounding down either way).
-    const test::VcdVar& d11 = f.var("ddmr_hil.uno.D11_enable2");
+    const test::VcdVar& d11 = f.var("ddmr_hil.uno.D11_left_PWM");
     const uint64_t sent_ns = VcdWriter::cycles_to_ns(sent, atmega328p::kClockHz);
     std::size_t pulses = 0;
     for (std::size_t i = 1; i + 1 < d11.changes.size(); ++i) {
@@ -54,7 +54,7 @@ TEST(VcdRecorder, AveragedModeStillDrawsThePhaseCorrectWaveform) {
         EXPECT_LE(std::min(width % 8000, 8000 - width % 8000), 1u) << "pulse at " << d11.changes[i].time;
     }
     EXPECT_GT(pulses, 200u);
-    EXPECT_GT(test::edge_count(f.var("ddmr_hil.uno.D3_encoder2")), 10u);  // the wheel turns
+    EXPECT_GT(test::edge_count(f.var("ddmr_hil.uno.D3_left_OUT")), 10u);  // the wheel turns
 }
 
 }  // namespace

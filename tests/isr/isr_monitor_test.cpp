@@ -26,7 +26,7 @@ constexpr hil::Cycles kRjmpCycles = 2;
 struct TimingBench {
     hil::ElfImage elf = hil::ElfImage::read(std::string(DDMR_ISR_FIRMWARE_DIR) + "/isr_timing.elf");
     hil::AvrCore core{elf};
-    hil::EncoderInjector injector{core, hil::uno_default_board()};
+    hil::EncoderInjector injector{core, hil::default_board()};
     hil::Cycles loop_start = 0;  ///< an instruction boundary of the rjmp loop
 
     TimingBench() {

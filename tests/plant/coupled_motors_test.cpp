@@ -134,6 +134,44 @@ TEST(CoupledMotors, SystemMatrixCouplesTheCurrentsThroughTheBattery) {
     EXPECT_EQ(a(1, 2), 0.0);                      // no mechanical coupling
 }
 
+TEST(CoupledMotors, BridgeResistanceAddsToItsMotorsDiagonalOnly) {
+    // Row I_1: -(R_a1 + R_s1 + s1^2 R_b)/L_1; the coupling entries are unchanged.
+    const auto p = motors();
+    const CoupledMotorStepper s(p[0], p[1]);
+    const Eigen::Matrix4d a = s.system_matrix(1.0, 0.0, kRb, 0.5, 0.32);
+    const Eigen::Matrix4d a0 = s.system_matrix(1.0, 0.0, kRb);
+    EXPECT_DOUBLE_EQ(a(0, 0), -(5.32 + 0.5 + kRb) / 2.3e-3);
+    EXPECT_DOUBLE_EQ(a(2, 2), -(5.41 + 0.32) / 2.4e-3);
+    EXPECT_EQ(a(0, 2), a0(0, 2));
+    EXPECT_EQ(a(0, 1), a0(0, 1));
+    // Zero bridge resistance: A bit for bit as without it (R_a + 0 == R_a).
+    EXPECT_EQ(s.system_matrix(1.0, -0.5, kRb, 0.0, 0.0), s.system_matrix(1.0, -0.5, kRb));
+}
+
+TEST(CoupledMotors, SteadyStateWithOnResistanceMatchesTheHandFormula) {
+    // Identical motors on a MOSFET bridge (no drop, R_on = 0.5 ohm), both
+    // forward: E = V_s, each motor behind R_a + R_on + 2 R_b:
+    //   w = (K_t E - R T_c) / (R F + K_t K_a), R = 5.32 + 0.5 + 0.074 = 5.894 ohm.
+    const DcMotorParams m;
+    CoupledMotorStepper joint(m, m);
+    MotorTerminal u;
+    u.voltage_V = kSource;
+    u.supply_factor = 1.0;
+    u.series_resistance_ohm = 0.5;
+    Pair x{DcMotorState{0.1, 100.0, 0.0}, DcMotorState{0.1, 100.0, 0.0}};
+    const std::array<CoupledTerminal, 2> c{coupled_terminal(u, 0.1), coupled_terminal(u, 0.1)};
+    EXPECT_EQ(c[0].series_resistance_ohm, 0.5);
+    CoupledSegment seg;
+    double q = 0.0;
+    ASSERT_EQ(joint.advance(x, c, kRb, 5.0, seg, q), 5.0);
+    const double r = m.resistance_ohm + 0.5 + 2 * kRb;
+    const double w = (m.torque_N_m_per_A * kSource - r * m.coulomb_friction_N_m) /
+                     (r * m.viscous_friction_N_m_s_per_rad +
+                      m.torque_N_m_per_A * m.back_emf_V_s_per_rad);
+    EXPECT_NEAR(x[0].speed_rad_s, w, 1e-9 * w);
+    EXPECT_NEAR(x[1].speed_rad_s, w, 1e-9 * w);
+}
+
 TEST(CoupledMotors, WithoutBatteryResistanceItIsTwoIndependentMotors) {
     const auto p = motors();
     CoupledMotorStepper joint(p[0], p[1]);

@@ -58,6 +58,38 @@ TEST(ParamsYaml, PartialFileOverridesOnlyItsKeys) {
     EXPECT_TRUE(parse_robot_params("", "empty.yaml") == default_robot_params());
 }
 
+TEST(ParamsYaml, EachChipHasItsSection) {
+    const RobotParams p = parse_robot_params(
+        "tb6612:\n  on_resistance_ohm: 0.7\ndrv8833:\n  flyback_diode_drop_V: 0.9\n", "chips.yaml");
+    RobotParams expected = default_robot_params();
+    expected.tb6612.on_resistance_ohm = 0.7;
+    expected.drv8833.flyback_diode_drop_V = 0.9;
+    EXPECT_TRUE(p == expected);
+    EXPECT_EQ(p.driver.drop_V, 1.4);  // `driver:` is the L298, untouched
+}
+
+TEST(ParamsYaml, EdgesPerWheelRevReplacesTheDefaultEdgesPerMotorRev) {
+    // Also after another key of the section: the section is consistent at every key.
+    const RobotParams p = parse_robot_params(
+        "encoder1:\n  initial_phase: 0.25\n  edges_per_wheel_rev: 40\n", "wheel.yaml");
+    EXPECT_EQ(p.encoder[0].edges_per_motor_rev, 0);
+    EXPECT_EQ(p.encoder[0].edges_per_wheel_rev, 40.0);
+    EXPECT_EQ(p.encoder[0].initial_phase, 0.25);
+    EXPECT_EQ(p.encoder[1].edges_per_motor_rev, 8);  // the other encoder keeps its default
+    // It round-trips: the emitter writes only the resolution key in use.
+    EXPECT_TRUE(parse_robot_params(emit_robot_params(p), "emitted") == p);
+    EXPECT_EQ(emit_robot_params(p).find("edges_per_motor_rev: 0"), std::string::npos);
+}
+
+TEST(ParamsYaml, BothResolutionKeysInOneEncoderAreRejectedNamingBoth) {
+    EXPECT_EQ(error_of("encoder2:\n  edges_per_motor_rev: 8\n  seed: 3\n  edges_per_wheel_rev: 40\n"),
+              "bad.yaml:4:3: encoder2.edges_per_motor_rev (line 2) and encoder2.edges_per_wheel_rev "
+              "(line 4) are alternatives: give only one of them");
+    EXPECT_NE(error_of("encoder1:\n  edges_per_wheel_rev: 39\n").find(
+                  "bad.yaml:2:24: encoder1.edges_per_wheel_rev: invalid value '39'"),
+              std::string::npos);
+}
+
 TEST(ParamsYaml, UnknownKeyNamesFileLineAndKey) {
     EXPECT_EQ(error_of("motor1:\n  resistance_ohm: 5.0\n  resistnce_ohm: 5.0\n"),
               "bad.yaml:3:3: unknown key 'motor1.resistnce_ohm'");

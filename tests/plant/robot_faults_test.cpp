@@ -17,8 +17,8 @@ namespace {
 RobotInput full_averaged(double d1, double d2) {
     RobotInput in;
     in.mode = DriveMode::averaged;
-    in.bridge[0] = BridgeInput{false, d1, true};
-    in.bridge[1] = BridgeInput{false, d2, true};
+    in.bridge[0].duty = d1;
+    in.bridge[1].duty = d2;
     return in;
 }
 

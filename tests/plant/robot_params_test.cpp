@@ -67,8 +67,9 @@ TEST(RobotParams, EveryInvalidValueIsRejectedByName) {
                 f.member);
         }
     });
-    // 8 motor fields x 2 + 2 driver + 4 battery + 4 encoder (non-seed) x 2 + 3 + 2 = 35
-    EXPECT_EQ(checked, 35);
+    // 8 motor fields x 2 + 4 bridge fields x 3 chips (driver = L298, tb6612,
+    // drv8833) + 4 battery + 5 encoder (non-seed) x 2 + 3 + 2 = 47
+    EXPECT_EQ(checked, 47);
     EXPECT_TRUE(probe == defaults);  // every value restored
 }
 
@@ -89,6 +90,40 @@ TEST(RobotParams, OddEncoderEdgeCountIsRejected) {
     RobotParams p = default_robot_params();
     p.encoder[0].edges_per_motor_rev = 9;
     expect_rejected(p, "encoder1.edges_per_motor_rev", "9");
+}
+
+TEST(RobotParams, EncoderResolutionIsExactlyOneOfTwoKeys) {
+    RobotParams p = default_robot_params();
+    p.encoder[1].edges_per_wheel_rev = 40.0;  // beside the default 8 per motor turn
+    expect_rejected(p, "encoder2.edges_per_wheel_rev", "= 40");
+    p.encoder[1].edges_per_motor_rev = 0;  // 40 per wheel turn only: valid
+    EXPECT_NO_THROW(validate(p));
+    p.encoder[1].edges_per_wheel_rev = 0.0;  // neither
+    expect_rejected(p, "encoder2.edges_per_motor_rev", "= 0");
+}
+
+TEST(RobotParams, BoardSetFieldsAreValidatedAndCompared) {
+    RobotParams p = default_robot_params();
+    p.encoder[0].channels = 2;
+    EXPECT_NO_THROW(validate(p));
+    EXPECT_FALSE(p == default_robot_params());
+    p.encoder[0].channels = 0;
+    expect_rejected(p, "encoder1.channels", "= 0");
+    p = default_robot_params();
+    p.chip[1] = DriverChip::drv8833;
+    EXPECT_FALSE(p == default_robot_params());
+    p.chip[1] = static_cast<DriverChip>(7);
+    expect_rejected(p, "chip[1]", "7");
+}
+
+TEST(RobotParams, EachMotorGetsItsChipsBridgeParameters) {
+    RobotParams p = default_robot_params();
+    EXPECT_EQ(&bridge_params(p, 0), &p.driver);  // the thesis's L298 shield
+    EXPECT_EQ(&bridge_params(p, 1), &p.driver);
+    p.chip = {DriverChip::tb6612, DriverChip::drv8833};
+    EXPECT_EQ(&bridge_params(p, 0), &p.tb6612);
+    EXPECT_EQ(&bridge_params(p, 1), &p.drv8833);
+    EXPECT_EQ(bridge_params(p, 1).on_resistance_ohm, 0.36);
 }
 
 TEST(RobotParams, RobotConstructorValidates) {

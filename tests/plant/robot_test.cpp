@@ -7,20 +7,35 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
+#include "plant/motor_driver.hpp"
 #include "plant/pwm_waveform.hpp"
 #include "plant/units.hpp"
 
 namespace ddmr::plant {
 namespace {
 
+/// The thesis shield's bridge input (dir_pwm truth table): the PWM pin's
+/// level now (switched), its duty (averaged) and the direction pin.
+BridgeInput shield(bool pwm_high, double duty, bool forward) {
+    DriverInputLevels pins;
+    pins.pwm = pwm_high;
+    pins.dir = forward;
+    BridgeInput b;
+    b.state = bridge_state(DriverType::dir_pwm, pins);
+    b.duty = duty;
+    b.forward = forward;
+    return b;
+}
+
 RobotInput averaged(double d1, double d2, bool fwd1 = true, bool fwd2 = true) {
     RobotInput in;
     in.mode = DriveMode::averaged;
-    in.bridge[0] = BridgeInput{false, d1, fwd1};
-    in.bridge[1] = BridgeInput{false, d2, fwd2};
+    in.bridge[0] = shield(false, d1, fwd1);
+    in.bridge[1] = shield(false, d2, fwd2);
     return in;
 }
 
@@ -49,7 +64,7 @@ Mean open_loop(DriveMode mode, double duty, double seconds, double measure_s) {
     const PhaseCorrectPwm pwm{PhaseCorrectPwm::ocr_for_duty(duty), 0};
     RobotInput in;
     in.mode = mode;
-    for (BridgeInput& b : in.bridge) b = BridgeInput{false, pwm.duty(), true};
+    for (BridgeInput& b : in.bridge) b = shield(false, pwm.duty(), true);
     const std::int64_t end = s_to_cycles(seconds);
     const std::int64_t start_measure = s_to_cycles(seconds - measure_s);
     std::int64_t c = 0;
@@ -59,7 +74,7 @@ Mean open_loop(DriveMode mode, double duty, double seconds, double measure_s) {
         std::int64_t next = std::min(end, c + 1600);  // 100 us
         if (mode == DriveMode::switched) next = std::min(next, pwm.next_edge_after(c));
         if (c < start_measure) next = std::min(next, start_measure);
-        for (BridgeInput& b : in.bridge) b.enable = pwm.level_at(c);
+        for (BridgeInput& b : in.bridge) b = shield(pwm.level_at(c), pwm.duty(), true);
         r.set_input(in);
         e.clear();
         EXPECT_EQ(r.step(cycles_to_s(next - c), e).status, StepStatus::ok);
@@ -201,9 +216,9 @@ TEST(Robot, WithBothBridgesOffTheShaftsCoastAndTheBatteryIsIdle) {
     Robot r;
     RobotInput in;
     in.mode = DriveMode::switched;
-    for (BridgeInput& b : in.bridge) b = BridgeInput{true, 1.0, true};
+    for (BridgeInput& b : in.bridge) b = shield(true, 1.0, true);
     run(r, in, 0.5);
-    for (BridgeInput& b : in.bridge) b.enable = false;
+    for (BridgeInput& b : in.bridge) b = shield(false, 1.0, true);
     EdgeBuffer e;
     r.set_input(in);
     for (int k = 0; k < 1000 && (r.motor_current_A(0) != 0.0 || r.motor_current_A(1) != 0.0); ++k) {
@@ -256,7 +271,7 @@ TEST(Robot, ARestoredStateContinuesBitForBit) {
         for (int k = 0; k < n; ++k) {
             const std::int64_t next =
                 std::min({c + 1000, pwm[0].next_edge_after(c), pwm[1].next_edge_after(c)});
-            for (std::size_t m = 0; m < kMotorCount; ++m) in.bridge[m] = BridgeInput{pwm[m].level_at(c), 0.0, true};
+            for (std::size_t m = 0; m < kMotorCount; ++m) in.bridge[m] = shield(pwm[m].level_at(c), 0.0, true);
             r.set_input(in);
             e.clear();
             ASSERT_EQ(r.step(cycles_to_s(next - c), e).status, StepStatus::ok);
@@ -337,6 +352,144 @@ TEST(Robot, EdgeBufferOverflowIsReported) {
     EXPECT_EQ(e.dropped() + e.size(), r.edge_count(0) + r.edge_count(1));
 }
 
+// ---- other motor drivers, braking, quadrature encoders ----------------------
+
+/// The defaults with an ideal pack (R_b = 0, no sag: the source stays 6.1 V)
+/// and both motors on `chip`.
+RobotParams ideal_battery(DriverChip chip) {
+    RobotParams p = default_robot_params();
+    p.battery.internal_resistance_ohm = 0.0;
+    p.battery.sag_V_per_Ah = 0.0;
+    p.chip = {chip, chip};
+    return p;
+}
+
+RobotInput switched_states(BridgeState s1, BridgeState s2) {
+    RobotInput in;
+    in.mode = DriveMode::switched;
+    in.bridge[0].state = s1;
+    in.bridge[1].state = s2;
+    return in;
+}
+
+TEST(Robot, SteadyWheelSpeedThroughEachChipsDropAndOnResistance) {
+    // Motor 1 (R_a 5.32, K_t = K_a = 0.00384, F 2.2e-7, T_c 2.3e-4), driven
+    // forward all the time, battery 6.1 V with R_b = 0:
+    //   w = (K_t V - (R_a + R_on) T_c) / ((R_a + R_on) F + K_t K_a),  V = 6.1 - drop
+    //   L298    V 4.7, R 5.32: (0.018048 - 0.0012236) / (1.1704e-6 + 1.47456e-5) = 1057.07 rad/s
+    //   TB6612  V 6.1, R 5.82: (0.023424 - 0.0013386) / (1.2804e-6 + 1.47456e-5) = 1378.10 rad/s
+    //   DRV8833 V 6.1, R 5.68: (0.023424 - 0.0013064) / (1.2496e-6 + 1.47456e-5) = 1382.76 rad/s
+    // (210.3, 274.2, 275.1 RPM at the wheel). 2 s is 29 mechanical time constants.
+    struct Case {
+        DriverChip chip;
+        double hand_rad_s;
+    };
+    for (const Case& c : {Case{DriverChip::l298, 1057.07}, Case{DriverChip::tb6612, 1378.10},
+                          Case{DriverChip::drv8833, 1382.76}}) {
+        const RobotParams p = ideal_battery(c.chip);
+        Robot r(p);
+        run(r, switched_states(BridgeState::forward, BridgeState::forward), 2.0);
+        const BridgeParams& b = bridge_params(p, 0);
+        const DcMotorParams& m = p.motor[0];
+        const double v = 6.1 - b.drop_V;
+        const double rs = m.resistance_ohm + b.on_resistance_ohm;
+        const double w = (m.torque_N_m_per_A * v - rs * m.coulomb_friction_N_m) /
+                         (rs * m.viscous_friction_N_m_s_per_rad +
+                          m.torque_N_m_per_A * m.back_emf_V_s_per_rad);
+        EXPECT_NEAR(w, c.hand_rad_s, 0.01) << static_cast<int>(c.chip);
+        EXPECT_NEAR(r.motor_speed_rad_s(0), w, 1e-9 * w) << static_cast<int>(c.chip);
+        // The same through the averaged model at full duty.
+        Robot a(p);
+        run(a, averaged(1.0, 1.0), 2.0);
+        EXPECT_NEAR(a.motor_speed_rad_s(0), w, 1e-9 * w) << static_cast<int>(c.chip);
+    }
+}
+
+TEST(Robot, BrakeStopsFasterThanCoastByTheElectricalDamping) {
+    // Both motors = motor 1, at w0 = 1000 rad/s with I = 0; TB6612. Motor 1
+    // brakes (winding shorted through 0.5 ohm), motor 2 coasts (open, I stays 0).
+    // Coast, J w' = -F w - T_c:
+    //   w(t) = (w0 + T_c/F) e^{-t F/J} - T_c/F, J/F = 0.8636 s, T_c/F = 1045.45 rad/s
+    //   half speed at t = (J/F) ln((1000 + 1045.45) / (500 + 1045.45)) = 0.24208 s.
+    // Brake, neglecting L_a (the current follows w within L_a/(R_a + R_brake) = 0.40 ms):
+    //   F_e = K_t K_a / (R_a + R_brake) = 1.47456e-5 / 5.82 = 2.5336e-6 N m s/rad,
+    //   F' = F + F_e = 2.7536e-6, J/F' = 69.00 ms, T_c/F' = 83.53 rad/s,
+    //   half speed at t = 0.069 ln(1083.53 / 583.53) = 0.042703 s: 5.67 x sooner.
+    // The simulation includes L_a: the braking current builds up over ~L_a/R
+    // (0.40 ms), so its half-speed time comes later (measured 0.042816 s,
+    // +0.11 ms); tolerance 1 ms.
+    RobotParams p = ideal_battery(DriverChip::tb6612);
+    p.motor[1] = p.motor[0];
+    Robot r(p);
+    RobotState s = r.state();
+    for (DcMotorState& m : s.motor) m.speed_rad_s = 1000.0;
+    r.set_state(s);
+    r.set_input(switched_states(BridgeState::brake, BridgeState::coast));
+    EdgeBuffer e;
+    std::array<double, 2> half_s{-1.0, -1.0};
+    const double h = 1e-5;
+    for (int k = 1; k <= 30000 && half_s[1] < 0.0; ++k) {
+        std::array<double, 2> before{r.motor_speed_rad_s(0), r.motor_speed_rad_s(1)};
+        e.clear();
+        ASSERT_EQ(r.step(h, e).status, StepStatus::ok);
+        for (std::size_t m = 0; m < 2; ++m) {
+            const double w = r.motor_speed_rad_s(m);
+            if (half_s[m] < 0.0 && w <= 500.0) {  // linear interpolation inside the step
+                half_s[m] = (k - 1) * h + h * (before[m] - 500.0) / (before[m] - w);
+            }
+        }
+        EXPECT_EQ(r.supply_current_A(), 0.0);  // the battery sees nothing
+    }
+    EXPECT_EQ(r.charge_drawn_C(), 0.0);
+    EXPECT_NEAR(half_s[1], 0.24208, 1e-5);  // coast: exact closed form
+    EXPECT_NEAR(half_s[0], 0.042703, 1e-3);
+    EXPECT_GT(half_s[0], 0.042703);         // L_a only delays the braking current
+    EXPECT_NEAR(half_s[1] / half_s[0], 5.67, 0.15);
+    std::printf("half speed: brake %.6f s, coast %.6f s\n", half_s[0], half_s[1]);
+}
+
+TEST(Robot, ABrakingMotorLeavesTheBatteryToTheOther) {
+    // L298s, R_b = 0.037 ohm, no sag. Motor 1 drives forward, motor 2 brakes
+    // (supply factor 0): motor 1 alone loads the pack, so it settles at the
+    // single-motor speed with R_a + R_b (0.037 R_b x its own current only):
+    //   w = (0.00384 x 4.7 - 5.357 x 2.3e-4) / (5.357 x 2.2e-7 + 1.47456e-5) = 1056.00 rad/s.
+    RobotParams p = default_robot_params();
+    p.battery.sag_V_per_Ah = 0.0;
+    Robot r(p);
+    RobotState s = r.state();
+    s.motor[1].speed_rad_s = 800.0;
+    r.set_state(s);
+    run(r, switched_states(BridgeState::forward, BridgeState::brake), 2.0);
+    EXPECT_NEAR(r.motor_speed_rad_s(0), 1056.00, 0.01);
+    EXPECT_EQ(r.motor_speed_rad_s(1), 0.0);  // braked to a stop, held by stiction
+    EXPECT_NEAR(r.supply_current_A(), r.motor_current_A(0), 1e-15);
+}
+
+TEST(Robot, QuadratureEncodersCountBothOutputsAndReportTheirLevels) {
+    RobotParams p = default_robot_params();
+    for (HallEncoderParams& e : p.encoder) e.channels = 2;
+    Robot r(p);
+    // At angle 0: j = floor(0 + 2 x 0.5) = 1, (A, B) = (1, 0).
+    EXPECT_TRUE(r.encoder_level(0, 0));
+    EXPECT_FALSE(r.encoder_level(0, 1));
+    r.set_input(averaged(0.9, 0.6));
+    std::array<bool, 2> a{true, true};
+    std::array<bool, 2> b{false, false};
+    EdgeBuffer e;
+    for (int k = 0; k < 500; ++k) {
+        e.clear();
+        ASSERT_EQ(r.step(1e-3, e).status, StepStatus::ok);
+        for (const EncoderEdge& edge : e) (edge.signal == 0 ? a : b)[edge.channel] = edge.level;
+    }
+    for (std::size_t m = 0; m < 2; ++m) {
+        // 2 x 8 sub-boundaries per motor revolution, from j = 1.
+        const double revs = r.motor_angle_rad(m) / (2 * kPi);
+        EXPECT_EQ(r.edge_count(m), static_cast<std::uint64_t>(std::floor(16 * revs + 1) - 1));
+        EXPECT_EQ(r.encoder_level(m, 0), a[m]);
+        EXPECT_EQ(r.encoder_level(m, 1), b[m]);
+    }
+}
+
 // ---- halving the step in a closed loop ------------------------------------
 
 /// A firmware-like loop (the thesis's Kanayama tracker of the 0.6 m, 12 s
@@ -364,7 +517,7 @@ Pose closed_loop(const StepperConfig& step, DriveMode mode) {
             in.mode = mode;
             for (std::size_t m = 0; m < 2; ++m) {
                 if (mode == DriveMode::switched) next = std::min(next, pwm[m].next_edge_after(c));
-                in.bridge[m] = BridgeInput{pwm[m].level_at(c), pwm[m].duty(), fwd[m]};
+                in.bridge[m] = shield(pwm[m].level_at(c), pwm[m].duty(), fwd[m]);
             }
             r.set_input(in);
             e.clear();

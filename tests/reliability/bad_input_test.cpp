@@ -22,7 +22,7 @@ struct Case {
     std::string name;
     std::string file_name;  ///< written into the temp folder with `bytes`
     std::string bytes;
-    std::string option;     ///< "--firmware" or "--plant"
+    std::string option;     ///< "--firmware", "--plant" or "--board"
     std::string expected;   ///< fragment of the one-line error
 };
 
@@ -30,6 +30,10 @@ std::string read_bytes(const fs::path& p, std::size_t max = std::string::npos) {
     std::string s = read_text(p);
     return s.substr(0, std::min(max, s.size()));
 }
+
+/// A board file's first lines: the right wheel wired as the thesis robot's.
+constexpr const char* kBoardHead =
+    "wheels:\n  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n";
 
 std::vector<Case> firmware_cases() {
     const std::string elf = read_bytes(firmware_elf());
@@ -77,9 +81,16 @@ std::vector<Case> plant_cases() {
         {"Infinite", "p.yaml", "motor2:\n  inductance_H: .inf\n", "--plant", "inductance_H"},
         {"Negative", "p.yaml", "motor1:\n  inertia_kg_m2: -1e-7\n", "--plant", "inertia_kg_m2"},
         {"Zero", "p.yaml", "kinematics:\n  wheel_radius_right_m: 0\n", "--plant", "wheel_radius_right_m"},
-        {"NoSuchPin", "p.yaml", "board:\n  motor1: { enable_pin: 20 }\n", "--plant", "enable_pin = 20"},
-        {"NotAPwmPin", "p.yaml", "board:\n  motor1: { enable_pin: 5 }\n", "--plant", "enable_pin"},
-        {"TwoFunctionsOnOnePin", "p.yaml", "board:\n  encoder1: { pin: 12 }\n", "--plant", "already used"},
+        {"OldWiringInThePlantFile", "p.yaml", "board:\n  motor1: { enable_pin: 10 }\n", "--plant",
+         "p.yaml:1:1: key 'board': the wiring is no longer part of the plant file"},
+        {"NoSuchPin", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: dir-pwm, PWM: 11, DIR: 20}, encoder: {type: single, OUT: 3}}\n",
+         "--board", "b.yaml:3: key 'wheels.left.motor.DIR': '20' is not a pin"},
+        {"NotAPwmPin", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: dir-pwm, PWM: 4, DIR: 13}, encoder: {type: single, OUT: 3}}\n",
+         "--board", "key 'wheels.left.motor.PWM': pin 4 has no timer output"},
+        {"TwoFunctionsOnOnePin", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 12}}\n",
+         "--board", "key 'wheels.left.encoder.OUT': pin 12 is already used by wheels.right.motor.DIR"},
+        {"UnknownDriver", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: l293d, EN: 5}, encoder: {type: single, OUT: 3}}\n",
+         "--board", "key 'wheels.left.motor.driver': unknown driver 'l293d'"},
         {"MissingFile", "", "", "--plant", "missing.yaml"},
     };
 }

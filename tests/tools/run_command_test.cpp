@@ -135,8 +135,8 @@ TEST(RunCommand, Case1VcdHoldsPinsIsrsAndLoopMarker) {
     EXPECT_EQ(vcd.timescale, "1ns");
     EXPECT_TRUE(vcd.has_dumpvars);
     for (const char* name :
-         {"uno.D0_RX", "uno.D1_TX", "uno.D2_encoder1", "uno.D3_encoder2", "uno.D10_enable1", "uno.D11_enable2",
-          "uno.D12_direction1", "uno.D13_direction2", "isr.isr_INT0", "isr.isr_INT1", "isr.isr_TIMER0_OVF",
+         {"uno.D0_RX", "uno.D1_TX", "uno.D2_right_OUT", "uno.D3_left_OUT", "uno.D10_right_PWM", "uno.D11_left_PWM",
+          "uno.D12_right_DIR", "uno.D13_left_DIR", "isr.isr_INT0", "isr.isr_INT1", "isr.isr_TIMER0_OVF",
           "isr.isr_USART_UDRE", "firmware.loop_iteration"}) {
         EXPECT_TRUE(vcd.has(std::string("ddmr_hil.") + name)) << name;
     }
@@ -147,8 +147,8 @@ TEST(RunCommand, Case1VcdHoldsPinsIsrsAndLoopMarker) {
     const auto var = [&](const std::string& name) -> const VcdVar& { return vcd.var("ddmr_hil." + name); };
 
     // Every injected encoder edge is one level change of the pin.
-    EXPECT_EQ(edge_count(var("uno.D2_encoder1")), s["encoder"]["channel1"]["edges_injected"].get<std::size_t>());
-    EXPECT_EQ(edge_count(var("uno.D3_encoder2")), s["encoder"]["channel2"]["edges_injected"].get<std::size_t>());
+    EXPECT_EQ(edge_count(var("uno.D2_right_OUT")), s["encoder"]["channel1"]["edges_injected"].get<std::size_t>());
+    EXPECT_EQ(edge_count(var("uno.D3_left_OUT")), s["encoder"]["channel2"]["edges_injected"].get<std::size_t>());
     // One high pulse per ISR entry, as isr.json counts them.
     const json isr = json::parse(read_text(run.out / "isr.json"));
     for (const auto& v : isr["vectors"]) {
@@ -168,7 +168,7 @@ TEST(RunCommand, Case1VcdHoldsPinsIsrsAndLoopMarker) {
     const uint64_t loop_begin = loop.changes.at(1).time;
     const uint64_t loop_end = loop.changes.back().time;
     constexpr uint64_t kPeriodNs = 2'040'000, kStepNs = 8'000;
-    const VcdVar& d10 = var("uno.D10_enable1");
+    const VcdVar& d10 = var("uno.D10_right_PWM");
     std::size_t pulses = 0, off_grid = 0;
     uint64_t first_centre_2x = 0, first_off_grid = 0;
     for (std::size_t i = 1; i + 1 < d10.changes.size(); ++i) {

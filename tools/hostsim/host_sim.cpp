@@ -23,6 +23,13 @@ namespace {
 using Cycles = std::int64_t;
 constexpr Cycles kNever = std::numeric_limits<Cycles>::max();
 
+/// The thesis shield's bridge (the dir_pwm truth table): PWM pin low
+/// coasts, high drives in the direction pin's direction.
+plant::BridgeState bridge_state(bool pwm_high, bool forward) {
+    if (!pwm_high) return plant::BridgeState::coast;
+    return forward ? plant::BridgeState::forward : plant::BridgeState::reverse;
+}
+
 void require(bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument(what);
 }
@@ -212,14 +219,14 @@ class Simulation {
             pwm[m].ocr = drive_[m].ocr;  // both counters at BOTTOM at cycle 0
             in.bridge[m].duty = drive_[m].duty;
             in.bridge[m].forward = drive_[m].forward;
-            in.bridge[m].enable = drive_[m].duty > 0.0;
+            in.bridge[m].state = bridge_state(drive_[m].duty > 0.0, drive_[m].forward);
         }
         Cycles c = from;
         while (c < to) {
             Cycles next = to;
             if (switched_) {
                 for (std::size_t m = 0; m < plant::kMotorCount; ++m) {
-                    in.bridge[m].enable = pwm[m].level_at(c);
+                    in.bridge[m].state = bridge_state(pwm[m].level_at(c), drive_[m].forward);
                     next = std::min(next, pwm[m].next_edge_after(c));
                 }
             }

@@ -16,6 +16,7 @@
 #include "hil/cycle_time.hpp"
 #include "hil/eeprom_write_timing.hpp"
 #include "hil/firmware_variables.hpp"
+#include "hil/board.hpp"
 #include "plant/l298_driver.hpp"
 #include "plant/robot_params.hpp"
 
@@ -48,6 +49,9 @@ struct WaitPin {  ///< `wait-pin: {pin: 12, value: 1, timeout: 1s}`
 struct ExpectPin {  ///< `expect-pin: {pin: 13, value: 1}`: the digital level now
     int pin = 0;
     bool value = false;
+};
+struct ExpectWarning {  ///< `expect-warning: regex`: a wiring warning so far matches (a driver input never made an output)
+    std::string pattern;
 };
 struct ExpectPwm {  ///< `expect-pwm: {pin: 10, duty: 0.4, tol: 0.02}`: the timer's duty now
     int pin = 0;
@@ -132,7 +136,7 @@ struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0}`: the robot is d
 struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
 
 using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
-                                ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
+                                ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
                                 ExpectIsr, ExpectNoTornReads, ExpectEncoders, InjectDrop, Stall, Battery, Slip,
                                 Push, Reset>;
 
@@ -152,6 +156,8 @@ struct Scenario {
     std::optional<std::filesystem::path> sketch;
     plant::RobotParams plant = plant::default_robot_params();  ///< file + overrides + seed
     std::optional<std::filesystem::path> plant_file;
+    hil::BoardWiring board = hil::default_board();        ///< `board:` file, else the thesis robot
+    std::optional<std::filesystem::path> board_file;
     plant::DriveMode pwm = plant::DriveMode::switched;
     hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
     uint64_t seed = 1;

@@ -107,6 +107,7 @@ public:
         if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload);
         hil::RigConfig config;
         config.plant = s.plant;
+        config.board = s.board;
         config.coupler.mode = s.pwm;
         config.eeprom_timing = s.eeprom_timing;
         rig_.emplace(elf_, config);
@@ -334,6 +335,15 @@ private:
         cursor_ = *text_.find(w.text, cursor_) + w.text.size();
         return {};
     }
+    std::string run_step(const ExpectWarning& e) {
+        const std::regex re(e.pattern);
+        const std::vector<std::string> warnings = rig_->driver().wiring_warnings();
+        for (const std::string& w : warnings) {
+            if (std::regex_search(w, re)) return w;
+        }
+        throw StepFailed{Verdict::kFail, fmt::format("expected a wiring warning matching /{}/; there are {}{}", e.pattern,
+                                                     warnings.size(), warnings.empty() ? "" : ": " + warnings.front())};
+    }
     std::string run_step(const ExpectSerial& e) {
         const std::string_view seen = text_.view();  // the last kSerialWindowBytes
         if (!std::regex_search(seen.begin(), seen.end(), std::regex(e.pattern))) {
@@ -346,16 +356,22 @@ private:
         fail_patterns_.emplace_back(f.pattern, std::regex(f.pattern));
         return {};
     }
-    bool pin_level(int pin) {
-        const PinRegs r = uno_pin_regs(pin);
-        const auto& board = rig_->config().board;
-        for (std::size_t m = 0; m < 2; ++m) {
-            if (board.motor[m].enable_pin == pin) {
-                rig_->driver().advance_to(core().cycle());
-                const auto& d = rig_->driver().drive(m);
-                if (d.pwm_connected && d.timer_running) return d.enable_level_at(core().cycle());
+    /// Whether `pin` feeds one of the board's motor driver inputs.
+    bool driver_pin(int pin) const {
+        for (const hil::WheelWiring& w : rig_->config().board.wheel) {
+            for (const hil::InputWire& in : w.motor.input) {
+                if (in.used && !in.tied_high && in.pin == pin) return true;
             }
         }
+        return false;
+    }
+    bool pin_level(int pin) {
+        if (driver_pin(pin)) {
+            hil::PinWaveforms& pins = rig_->driver().pins();
+            pins.advance_to(core().cycle());
+            if (pins.timer_driven(pin)) return pins.level_at(pin, core().cycle());
+        }
+        const PinRegs r = uno_pin_regs(pin);
         const auto bit = static_cast<unsigned>(r.bit);
         const bool output = ((static_cast<unsigned>(core().data(r.ddr)) >> bit) & 1U) != 0;
         return ((static_cast<unsigned>(core().data(output ? r.port : r.pin)) >> bit) & 1U) != 0;
@@ -381,18 +397,17 @@ private:
         return {};
     }
     std::string run_step(const ExpectPwm& e) {
-        const auto& board = rig_->config().board;
-        for (std::size_t m = 0; m < 2; ++m) {
-            if (board.motor[m].enable_pin != e.pin) continue;
-            rig_->driver().advance_to(core().cycle());
-            const double duty = rig_->driver().drive(m).duty();
-            if (std::abs(duty - e.duty) > e.tol) {
-                throw StepFailed{Verdict::kFail,
-                                 fmt::format("expected pin {} duty {:.4f} +- {:.4f}, got {:.4f}", e.pin, e.duty, e.tol, duty)};
-            }
-            return fmt::format("duty {:.4f}", duty);
+        if (!driver_pin(e.pin)) {
+            throw StepFailed{Verdict::kFail, fmt::format("pin {} is not a motor driver input on this board", e.pin)};
         }
-        throw StepFailed{Verdict::kFail, fmt::format("pin {} is not a motor enable pin on this board", e.pin)};
+        hil::PinWaveforms& pins = rig_->driver().pins();
+        pins.advance_to(core().cycle());
+        const double duty = pins.duty(e.pin);
+        if (std::abs(duty - e.duty) > e.tol) {
+            throw StepFailed{Verdict::kFail,
+                             fmt::format("expected pin {} duty {:.4f} +- {:.4f}, got {:.4f}", e.pin, e.duty, e.tol, duty)};
+        }
+        return fmt::format("duty {:.4f}", duty);
     }
     std::string run_step(const ExpectVar& e) {
         const hil::VarType type = e.type ? *e.type : default_type(elf_, e.name);
@@ -654,6 +669,8 @@ private:
             {"steps_total", s_.steps.size()},
             {"uart_bytes", r.uart_bytes},
             {"framing_errors", r.framing_errors},
+            {"board", s_.board_file ? json(s_.board_file->string()) : json(nullptr)},
+            {"wiring_warnings", rig_->driver().wiring_warnings()},
         };
         const hil::EepromImage image = rig_->eeprom().read_all();
         uart_txt_->commit();

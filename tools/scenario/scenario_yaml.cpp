@@ -13,6 +13,7 @@
 
 #include "hil/atmega328p.hpp"
 #include "hil/board.hpp"
+#include "hil/uno_pins.hpp"
 #include "plant/params_yaml.hpp"
 
 namespace ddmr::tools::scenario {
@@ -188,7 +189,7 @@ int uno_pin(const Ctx& c) {
 
 int pwm_pin(const Ctx& c) {
     const int pin = c.integer_in(0, 19);
-    if (pin != 10 && pin != 11) c.fail(fmt::format("pin {}: the robot's PWM outputs are pins 10 and 11", pin));
+    if (!hil::uno_pin(pin)->oc) c.fail(fmt::format("pin {} has no timer output (PWM pins: 3, 5, 6, 9, 10, 11)", pin));
     return pin;
 }
 
@@ -225,10 +226,11 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
         c.keys({"text", "timeout"}, {"text"});
         return WaitSerial{c.child("text").str(), c.has("timeout") ? c.child("timeout").duration() : 0};
     }
-    if (kind == "expect-serial" || kind == "fail-serial") {
+    if (kind == "expect-serial" || kind == "fail-serial" || kind == "expect-warning") {
         const std::string pattern = c.str();
         check_regex(c, pattern);
         if (kind == "fail-serial") return FailSerial{pattern};
+        if (kind == "expect-warning") return ExpectWarning{pattern};
         return ExpectSerial{pattern};
     }
     if (kind == "wait-pin") {
@@ -386,8 +388,13 @@ std::string step_text(const YAML::Node& step) {
     return e.c_str();
 }
 
-/// Merges `over` into `base`, key by key (scalars replace).
+/// Merges `over` into `base`, key by key (scalars replace). An encoder's
+/// resolution is one of two keys: giving one drops the other from `base`.
 void merge(YAML::Node base, const YAML::Node& over) {
+    for (const char* key : {"edges_per_motor_rev", "edges_per_wheel_rev"}) {
+        const std::string other = std::string(key) == "edges_per_motor_rev" ? "edges_per_wheel_rev" : "edges_per_motor_rev";
+        if (over.IsMap() && over[key] && base.IsMap() && base[other]) base.remove(other);
+    }
     for (const auto& kv : over) {
         const std::string k = kv.first.Scalar();
         if (kv.second.IsMap() && base[k] && base[k].IsMap()) {
@@ -409,8 +416,8 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     }
     const Ctx top(file, root, "(top)");
     if (!root.IsMap()) throw ScenarioError(fmt::format("{}:1: a scenario is a mapping with a 'steps' list", file.string()));
-    top.keys({"name", "description", "version", "author", "firmware", "plant", "pwm", "eeprom-timing", "seed",
-              "timeout", "serial", "eeprom", "steps"},
+    top.keys({"name", "description", "version", "author", "firmware", "board", "plant", "pwm", "eeprom-timing",
+              "seed", "timeout", "serial", "eeprom", "steps"},
              {"steps", "timeout"});
     Scenario s;
     s.file = file;
@@ -438,6 +445,14 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         s.firmware = existing_file(Ctx(file, root["firmware"], "firmware"));
     } else {
         s.firmware = options.reference_firmware;
+    }
+    if (root["board"]) {
+        s.board_file = existing_file(Ctx(file, root["board"], "board"));
+        try {
+            s.board = hil::load_board_file(*s.board_file);  // its messages name its file, line and key
+        } catch (const std::runtime_error& e) {
+            throw ScenarioError(e.what());
+        }
     }
     if (root["seed"]) s.seed = Ctx(file, root["seed"], "seed").count();
     s.timeout = Ctx(file, root["timeout"], "timeout").duration();
@@ -472,7 +487,6 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
             s.plant_file = existing_file(c.child("file"));
             plant::load_robot_params(*s.plant_file);  // its own messages name its file and line
             plant_yaml = YAML::LoadFile(s.plant_file->string());
-            plant_yaml.remove(plant::kBoardSection);
         }
         if (c.has("overrides")) {
             const Ctx o = c.child("overrides");

@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -39,7 +40,7 @@ int run_logged(std::vector<std::string> args, const fs::path& log) {
 
 }  // namespace
 
-fs::path build_sketch(const fs::path& ino, const fs::path& cache) {
+fs::path build_sketch(const fs::path& ino, const fs::path& cache, const std::string& fqbn) {
     if (ino.extension() != ".ino") throw std::runtime_error(fmt::format("sketch {}: not a .ino file", ino.string()));
     if (!fs::is_regular_file(ino)) throw std::runtime_error(fmt::format("sketch {}: no such file", ino.string()));
     const std::string stem = ino.stem().string();
@@ -47,7 +48,10 @@ fs::path build_sketch(const fs::path& ino, const fs::path& cache) {
         throw std::runtime_error(fmt::format("sketch {}: Arduino needs it in a folder of the same name ({}/{}.ino)",
                                              ino.string(), stem, stem));
     }
-    const fs::path entry = cache / sha256_file_hex(ino);
+    // One entry per sketch content and board: the same .ino built for the Nano is another ELF.
+    std::string board = fqbn;
+    std::replace_if(board.begin(), board.end(), [](char c) { return c == ':' || c == '=' || c == ','; }, '_');
+    const fs::path entry = cache / (sha256_file_hex(ino) + "-" + board);
     fs::path elf = entry / (stem + ".elf");  // not const: returned by move
     if (fs::is_regular_file(elf)) return elf;
 
@@ -58,7 +62,7 @@ fs::path build_sketch(const fs::path& ino, const fs::path& cache) {
     std::vector<std::string> args = {DDMR_ARDUINO_BUILDER, "-compile"};
     std::stringstream dirs(DDMR_ARDUINO_HARDWARE_DIRS);
     for (std::string dir; std::getline(dirs, dir, ':');) args.insert(args.end(), {"-hardware", dir});
-    args.insert(args.end(), {"-tools", DDMR_ARDUINO_TOOLS_DIR, "-fqbn", DDMR_ARDUINO_FQBN, "-build-path",
+    args.insert(args.end(), {"-tools", DDMR_ARDUINO_TOOLS_DIR, "-fqbn", fqbn, "-build-path",
                              (work / "build").string(), std::string("-prefs=") + DDMR_ARDUINO_EXTRA_PREFS,
                              fs::absolute(ino).string()});
     const int rc = run_logged(args, work / "build.log");

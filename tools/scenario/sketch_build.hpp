@@ -4,12 +4,14 @@
 // (cmake/ArduinoSketch.cmake: Debian's arduino-builder, the Uno, the same
 // preference), and caches the result by the sketch's content.
 //
-// The cache folder holds one sub-folder per SHA-256 of the .ino; a build goes
+// The cache folder holds one sub-folder per SHA-256 of the .ino and board
+// (FQBN); a build goes
 // to a temporary folder first and is renamed into place, so parallel workers
 // and interrupted builds never see half an ELF. arduino-builder runs without
 // a shell (posix_spawn); its output goes to build.log in the cache entry.
 
 #include <filesystem>
+#include <string>
 
 namespace ddmr::tools::scenario {
 
@@ -20,6 +22,8 @@ std::filesystem::path default_sketch_cache();
 /// The ELF of `ino` (built now or taken from `cache`). Throws
 /// std::runtime_error naming the sketch: not a .ino, its folder not named
 /// after it (Arduino's rule), or the build failed (with the log's path).
-std::filesystem::path build_sketch(const std::filesystem::path& ino, const std::filesystem::path& cache);
+/// `fqbn`: the board to build for (hil::board_fqbn; the Uno by default).
+std::filesystem::path build_sketch(const std::filesystem::path& ino, const std::filesystem::path& cache,
+                                   const std::string& fqbn);
 
 }  // namespace ddmr::tools::scenario

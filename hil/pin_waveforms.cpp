@@ -1,0 +1,181 @@
+#include "hil/pin_waveforms.hpp"
+
+#include <sim_avr.h>
+#include <sim_io.h>
+#include <sim_irq.h>
+
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "hil/avr_timers.hpp"
+
+namespace ddmr::hil {
+namespace {
+
+bool bit_of(uint8_t value, int bit) { return ((static_cast<unsigned>(value) >> static_cast<unsigned>(bit)) & 1U) != 0; }
+
+uint16_t read16(const AvrCore& core, uint16_t low, uint16_t high) {
+    if (low == 0) return 0;
+    uint16_t v = core.data(low);
+    if (high != 0) v = static_cast<uint16_t>(v | (core.data(high) << 8));
+    return v;
+}
+
+TimerRegisters read_timer(const AvrCore& core, const TimerDesc& d) {
+    TimerRegisters r;
+    r.tccra = core.data(d.tccra);
+    r.tccrb = core.data(d.tccrb);
+    r.ocra = read16(core, d.ocra_low, d.ocra_high);
+    r.ocrb = read16(core, d.ocrb_low, d.ocrb_high);
+    r.icr = read16(core, d.icr_low, d.icr_high);
+    r.tcnt = read16(core, d.tcnt_low, d.tcnt_high);
+    return r;
+}
+
+bool same(const TimerRegisters& a, const TimerRegisters& b) {
+    return a.tccra == b.tccra && a.tccrb == b.tccrb && a.ocra == b.ocra && a.ocrb == b.ocrb && a.icr == b.icr;
+}
+
+}  // namespace
+
+PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins) : core_(core) {
+    std::set<uint16_t> port_registers;
+    for (const int p : pins) {
+        const auto info = uno_pin(p);
+        if (!info) throw std::invalid_argument("PinWaveforms: no pin " + std::to_string(p));
+        Pin& w = pin_[static_cast<std::size_t>(p)];
+        w.watched = true;
+        w.info = *info;
+        port_registers.insert({info->ddr_register, info->port_register});
+        if (info->oc) {
+            const auto t = static_cast<std::size_t>(info->oc->timer);
+            if (!timer_[t]) timer_[t].emplace(kAtmega328pTimers[t]);
+        }
+    }
+    port_hook_ = Hook{this, -1};
+    for (const uint16_t a : port_registers) watch(a, &port_hook_);
+    for (std::size_t t = 0; t < timer_.size(); ++t) {
+        if (!timer_[t]) continue;
+        timer_hook_[t] = Hook{this, static_cast<int>(t)};
+        const TimerDesc& d = kAtmega328pTimers[t];
+        for (const uint16_t a : {d.tccra, d.tccrb, d.ocra_low, d.ocra_high, d.ocrb_low, d.ocrb_high, d.icr_low, d.icr_high}) {
+            if (a != 0) watch(a, &timer_hook_[t]);
+        }
+        last_regs_[t] = read_timer(core_, d);
+        (void)timer_[t]->on_write(core_.cycle(), last_regs_[t], false);
+    }
+    sample_ports();
+    first_change_.reset();
+    changes_ = 0;
+    // An AVR reset clears the timer and port registers without a write
+    // notification: read them again (timers stopped, pins inputs).
+    core_.add_reset_listener(this, [this] {
+        for (std::size_t t = 0; t < timer_.size(); ++t) {
+            if (timer_[t]) sample_timer(t);
+        }
+        sample_ports();
+    });
+}
+
+PinWaveforms::~PinWaveforms() { core_.remove_reset_listener(this); }
+
+void PinWaveforms::watch(uint16_t address, Hook* hook) {
+    avr_irq_t* irq = avr_iomem_getirq(core_.raw(), address, nullptr, AVR_IOMEM_IRQ_ALL);
+    if (irq == nullptr) throw std::runtime_error("simavr gave no IRQ for register " + std::to_string(address));
+    avr_irq_register_notify(irq, &PinWaveforms::on_register, hook);
+}
+
+void PinWaveforms::on_register(avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {
+    const auto* hook = static_cast<const Hook*>(param);
+    if (hook->timer < 0) {
+        hook->self->sample_ports();
+    } else {
+        hook->self->sample_timer(static_cast<std::size_t>(hook->timer));
+    }
+}
+
+void PinWaveforms::note_change(Cycles cycle) {
+    ++changes_;
+    if (!first_change_) first_change_ = cycle;
+}
+
+void PinWaveforms::sample_timer(std::size_t t) {
+    const TimerRegisters r = read_timer(core_, kAtmega328pTimers[t]);
+    if (same(r, last_regs_[t])) return;  // simavr also notifies reads
+    last_regs_[t] = r;
+    TimerOutputDecoder& d = *timer_[t];
+    const bool was_running = d.running();
+    const std::array<bool, 2> was_connected{d.connected(0), d.connected(1)};
+    (void)d.on_write(core_.cycle(), r, false);
+    if (d.running() != was_running || d.connected(0) != was_connected[0] || d.connected(1) != was_connected[1]) {
+        note_change(core_.cycle());
+    }
+    refresh_connections();
+}
+
+void PinWaveforms::sample_ports() {
+    bool changed = false;
+    for (Pin& p : pin_) {
+        if (!p.watched) continue;
+        const bool output = bit_of(core_.data(p.info.ddr_register), p.info.bit);
+        const bool port = bit_of(core_.data(p.info.port_register), p.info.bit);
+        const PinMode mode = output ? PinMode::output : (port ? PinMode::input_pullup : PinMode::input_floating);
+        if (mode != p.mode || port != p.port_bit) changed = true;
+        p.mode = mode;
+        p.port_bit = port;
+        p.ever_output = p.ever_output || output;
+    }
+    const std::array<bool, kUnoPinCount> before = [this] {
+        std::array<bool, kUnoPinCount> c{};
+        for (std::size_t i = 0; i < pin_.size(); ++i) c[i] = pin_[i].connected;
+        return c;
+    }();
+    refresh_connections();
+    for (std::size_t i = 0; i < pin_.size(); ++i) changed = changed || before[i] != pin_[i].connected;
+    if (changed) note_change(core_.cycle());
+}
+
+void PinWaveforms::refresh_connections() {
+    for (Pin& p : pin_) {
+        if (!p.watched) continue;
+        const TimerOutputDecoder* t = p.info.oc ? timer_of(p.info.number) : nullptr;
+        p.connected = p.mode == PinMode::output && t != nullptr && t->connected(p.info.oc->channel);
+    }
+}
+
+void PinWaveforms::advance_to(Cycles cycle) {
+    for (auto& t : timer_) {
+        if (!t) continue;
+        if (const auto applied = t->advance_to(cycle)) note_change(*applied);
+    }
+}
+
+const TimerOutputDecoder* PinWaveforms::timer_of(int pin) const {
+    const Pin& p = pin_[static_cast<std::size_t>(pin)];
+    if (!p.info.oc) return nullptr;
+    const auto& t = timer_[static_cast<std::size_t>(p.info.oc->timer)];
+    return t ? &*t : nullptr;
+}
+
+bool PinWaveforms::timer_driven(int pin) const { return pin_[static_cast<std::size_t>(pin)].connected; }
+
+bool PinWaveforms::level_at(int pin, Cycles cycle) const {
+    const Pin& p = pin_[static_cast<std::size_t>(pin)];
+    if (!p.connected) return p.port_bit;
+    return timer_[static_cast<std::size_t>(p.info.oc->timer)]->level_at(p.info.oc->channel, cycle);
+}
+
+Cycles PinWaveforms::next_change_after(int pin, Cycles cycle) const {
+    const Pin& p = pin_[static_cast<std::size_t>(pin)];
+    if (!p.connected) return kNever;
+    return timer_[static_cast<std::size_t>(p.info.oc->timer)]->next_change_after(p.info.oc->channel, cycle);
+}
+
+double PinWaveforms::duty(int pin) const {
+    const Pin& p = pin_[static_cast<std::size_t>(pin)];
+    if (!p.connected) return p.port_bit ? 1.0 : 0.0;
+    return timer_[static_cast<std::size_t>(p.info.oc->timer)]->duty(p.info.oc->channel);
+}
+
+}  // namespace ddmr::hil
