@@ -147,6 +147,20 @@ TEST(EncoderInjector, PinChangeInterruptEntersAtTheEdgeAndMergesAPendingChange) 
     EXPECT_EQ(f.u8("last_pinc") & 0x30U, 0x20U);  // the ISR reads both pins' new levels
 }
 
+TEST(EncoderInjector, TimerPwmOnAPinOfTheSameGroupRaisesNoPinChangeInterrupt) {
+    // Timer0 drives OC0B = D5 (port D, PCINT21, not in PCMSK2) at 976.6 Hz;
+    // only D4 (PCINT20) is in the mask. 0.1 s = ~98 PWM periods without an
+    // encoder edge: no PCINT2; then one edge on D4: exactly one.
+    Fixture f;
+    const hil::Cycles t0 = f.core.cycle();
+    f.core.run_until(t0 + hil::s_to_cycles(0.1));
+    EXPECT_EQ(f.u16("pcint2_count"), 0u);
+    const hil::Cycles t1 = f.core.cycle();
+    f.injector.schedule(0, 1, t1 + 1000, true);  // the right wheel's B channel is D4
+    f.core.run_until(t1 + 3000);
+    EXPECT_EQ(f.u16("pcint2_count"), 1u);
+}
+
 TEST(EncoderInjector, ReversedQuadratureSwapsTheChannelsOntoThePins) {
     hil::BoardWiring b = fixture_board();
     b.wheel[0].encoder.reversed = true;
