@@ -108,7 +108,7 @@ std::string input_label(const BoardWiring& b, std::size_t m, DriverRole r) {
 }
 
 const char* encoder_signal_key(const EncoderWiring& e, unsigned signal) {
-    if (e.kind == EncoderKind::single) return "OUT";
+    if (e.kind != EncoderKind::quadrature) return "OUT";
     return signal == 0 ? "A" : "B";
 }
 
@@ -334,9 +334,12 @@ BoardWiring load_board_file(const std::filesystem::path& path) {
         r.mapping(w, key);
         r.only_keys(w, key, {"motor", "encoder"});
         if (!w["motor"]) r.fail(w, key + ".motor", "missing");
-        if (!w["encoder"]) r.fail(w, key + ".encoder", "missing");
         b.wheel[m].motor = r.motor(w["motor"], key + ".motor");
-        b.wheel[m].encoder = r.encoder(w["encoder"], key + ".encoder");
+        if (w["encoder"]) {
+            b.wheel[m].encoder = r.encoder(w["encoder"], key + ".encoder");
+        } else {
+            b.wheel[m].encoder.kind = EncoderKind::none;  // a robot without encoders
+        }
     }
     try {
         validate(b);

@@ -13,7 +13,7 @@
 //       encoder: {type: single, OUT: 2}
 //     left:                          # motor 2, encoder 2
 //       motor:   {driver: l298n, EN: 5, IN1: 7, IN2: 6, reversed: true}
-//       encoder: {type: quadrature, A: 3, B: 12}
+//       encoder: {type: quadrature, A: 3, B: 12}   # optional: no key, no encoder
 // Default: the thesis's robot (firmware/ddmr_tracking/board.yaml).
 
 #include <array>
@@ -49,14 +49,17 @@ struct MotorWiring {
     [[nodiscard]] InputWire& operator[](DriverRole r) { return input[static_cast<std::size_t>(r)]; }
 };
 
-enum class EncoderKind : uint8_t { single, quadrature };
+/// none: the wheel has no encoder (many kit robots): the plant still turns, no pin is driven.
+enum class EncoderKind : uint8_t { none, single, quadrature };
 
 struct EncoderWiring {
     EncoderKind kind = EncoderKind::single;
     std::array<int, 2> pin{-1, -1};  ///< [0]: OUT or A, [1]: B (quadrature)
     std::array<int, 2> line{0, 0};   ///< board-file lines
     bool reversed = false;           ///< quadrature channels swapped (B leads A going forward)
-    [[nodiscard]] unsigned signals() const { return kind == EncoderKind::quadrature ? 2U : 1U; }
+    [[nodiscard]] unsigned signals() const {
+        return kind == EncoderKind::quadrature ? 2U : (kind == EncoderKind::single ? 1U : 0U);
+    }
 };
 
 struct WheelWiring {

@@ -49,6 +49,7 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
             sig.pcint_pending = pending_of(atmega328p::vector::kPcint0 + sig.pin.pcint_group);
         }
         swapped_[ch] = w.kind == EncoderKind::quadrature && w.reversed;
+        if (w.signals() == 0) continue;  // no encoder on this wheel: its edges go nowhere
         isr_entries_[ch].reserve(kRecordedIsrEntries);
         avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(signal_[ch][0].vector));
         if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for vector " + std::to_string(signal_[ch][0].vector));
@@ -108,6 +109,7 @@ void EncoderInjector::drive_now(unsigned channel, unsigned signal, bool level) {
 }
 
 void EncoderInjector::schedule(unsigned channel, unsigned signal, Cycles cycle, bool level) {
+    if (!signal_[channel][pin_index(channel, signal)].used) return;  // the wheel has no such output
     queue_.push_back(Edge{cycle, channel, pin_index(channel, signal), level});
     if (!armed_) {
         const Cycles now = core_.cycle();

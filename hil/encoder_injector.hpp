@@ -74,7 +74,7 @@ public:
     /// The interrupt vector (datasheet numbering, RESET = 0) that the pin of
     /// the channel's OUT / A signal can raise: INT0/INT1 on D2/D3, else its
     /// pin-change group's vector (which fires only if the firmware enables it).
-    int vector_of(unsigned channel) const { return signal_[channel][0].vector; }
+    int vector_of(unsigned channel) const { return signal_[channel][0].vector; }  ///< 0: no encoder
     /// The external interrupt (0 = INT0, 1 = INT1) on the channel's OUT / A pin, if any.
     std::optional<int> interrupt_of(unsigned channel) const { return signal_[channel][0].pin.ext_int; }
     /// The level the injector last put on the pin of wheel `channel`'s

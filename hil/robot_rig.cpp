@@ -1,5 +1,7 @@
 #include "hil/robot_rig.hpp"
 
+#include <algorithm>
+
 namespace ddmr::hil {
 namespace {
 
@@ -7,7 +9,8 @@ namespace {
 plant::RobotParams wired(plant::RobotParams p, const BoardWiring& board) {
     for (std::size_t m = 0; m < 2; ++m) {
         p.chip[m] = plant::chip_of(board.wheel[m].motor.driver);
-        p.encoder[m].channels = static_cast<int>(board.wheel[m].encoder.signals());
+        // A wheel without an encoder keeps the plant's (unwired) single channel.
+        p.encoder[m].channels = std::max(1, static_cast<int>(board.wheel[m].encoder.signals()));
     }
     return p;
 }

@@ -613,8 +613,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         for (unsigned k = 0; k < w.signals(); ++k) pins.push_back(w.pin[k]);
         encoder[fmt::format("channel{}", ch + 1)] = {
             {"wheel", hil::wheel_name(ch)},
-            {"type", w.kind == hil::EncoderKind::quadrature ? "quadrature" : "single"},
-            {"pin", w.pin[0]},
+            {"type", w.kind == hil::EncoderKind::quadrature ? "quadrature"
+                     : w.kind == hil::EncoderKind::single    ? "single"
+                                                             : "none"},
+            {"pin", w.signals() > 0 ? json(w.pin[0]) : json(nullptr)},
             {"pins", pins},
             {"edges_injected", s.edges_injected},
             {"isr_count", s.isr_count},

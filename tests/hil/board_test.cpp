@@ -116,6 +116,17 @@ TEST(Board, EveryDriverTypeAndEncoderTypeLoads) {
     EXPECT_TRUE(d.wheel[0].motor[DriverRole::sleep].tied_high);
 }
 
+TEST(Board, AWheelWithoutEncoderDrivesNoPin) {
+    // Many kit robots have no encoders: the key is optional.
+    const auto b = load(
+        "wheels:\n"
+        "  left:  {motor: {driver: l298n, EN: 5, IN1: 7, IN2: 8}}\n"
+        "  right: {motor: {driver: l298n, EN: 6, IN1: 9, IN2: 11}, encoder: {type: single, OUT: 2}}\n");
+    EXPECT_EQ(b.wheel[1].encoder.kind, hil::EncoderKind::none);
+    EXPECT_EQ(b.wheel[1].encoder.signals(), 0u);
+    EXPECT_EQ(hil::wired_pins(b), (std::vector<int>{2, 5, 6, 7, 8, 9, 11}));
+}
+
 TEST(Board, ADualModulesSharedStandbyPinIsOneModuleNotAPinUsedTwice) {
     const std::string shared =
         "wheels:\n"
@@ -168,6 +179,7 @@ TEST(Board, MistakesAreOneLineWithFileLineAndKey) {
     EXPECT_TRUE(contains(m, "key 'wheels.left.encoder.B': missing")) << m;
     // A missing wheel, the old format, an unknown board, malformed YAML.
     EXPECT_TRUE(contains(load_error(head), "key 'wheels.left': missing"));
+    EXPECT_TRUE(contains(load_error(head + "  left:\n    encoder: {type: single, OUT: 3}\n"), "key 'wheels.left.motor': missing"));
     EXPECT_TRUE(contains(load_error("board:\n  motor1: {enable_pin: 9}\n"), "old wiring format"));
     EXPECT_TRUE(contains(load_error("board: mega\n" + head), "unknown board 'mega'"));
     EXPECT_TRUE(contains(load_error("wheels: [1, 2\n"), "malformed YAML"));

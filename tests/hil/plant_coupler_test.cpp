@@ -128,6 +128,21 @@ TEST(PlantCoupler, SwappedEnableWiringBreaksTracking) {
     EXPECT_GT(distance_to_circle(run.end_truth, 0.6), 0.3);
 }
 
+TEST(PlantCoupler, AWheelWithoutEncoderTurnsButDrivesNoPin) {
+    // The left encoder unwired: the firmware counts nothing on pin 3 (its
+    // report's Count2 is 0) while its right wheel keeps counting; the left
+    // motor still turns in the plant.
+    hil::RigConfig config;
+    config.board.wheel[1].encoder.kind = hil::EncoderKind::none;
+    const auto run = run_rig_case('1', config);
+    EXPECT_EQ(run.encoder[1].edges_injected, 0u);
+    EXPECT_EQ(run.encoder[1].isr_count, 0u);
+    EXPECT_GT(run.encoder[0].edges_injected, 1000u);
+    ASSERT_TRUE(run.report_complete);
+    EXPECT_EQ(run.report.count2.value_or(-1), 0.0);
+    EXPECT_GT(run.report.count1.value_or(0), 1000.0);
+}
+
 TEST(PlantCoupler, AveragedPwmKeepsTheLoopTimingButMovesTheEndPose) {
     hil::RigConfig config;
     config.coupler.mode = plant::DriveMode::averaged;
