@@ -212,6 +212,33 @@ uint64_t on_wall_check(struct avr_t* /*avr*/, uint64_t when, void* param) {
     return when + g->period;
 }
 
+/// Whether the firmware defines what the reference sketch's protocol reads:
+/// the ready function and every traced global.
+bool speaks_reference_protocol(const hil::ElfImage& elf, const std::string& ready_symbol) {
+    if (!elf.find(ready_symbol)) return false;
+    return std::all_of(traced_variables().begin(), traced_variables().end(),
+                       [&](const hil::TracedVariable& v) { return elf.find(v.name).has_value(); });
+}
+
+/// The loop mark of a firmware without the reference protocol: Arduino's
+/// loop() (one call per iteration), or delay() where LTO inlined loop() into main.
+std::string default_loop_mark(const hil::ElfImage& elf, const std::string& firmware) {
+    const auto loop = elf.find("loop");
+    if (loop && loop->is_function && loop->size > 0) return "loop";
+    const auto delay = elf.find("delay");
+    if (delay && delay->is_function && delay->size > 0) {
+        std::fprintf(stderr,
+                     "ddmr-hil: loop() is not a function of %s (LTO inlined it into main): the loop mark falls "
+                     "back to delay(), one call per iteration (--loop-mark names another)\n",
+                     firmware.c_str());
+        return "delay";
+    }
+    throw std::runtime_error(fmt::format("firmware {}: neither loop() nor delay() is a function in the ELF (LTO "
+                                         "inlined them): pass --loop-mark FUNCTION, a function each loop "
+                                         "iteration calls once",
+                                         firmware));
+}
+
 RunExit run_exit_of(hil::FailureKind kind) {
     switch (kind) {
         case hil::FailureKind::kStackOverflow: return RunExit::kStackOverflow;
@@ -259,8 +286,56 @@ const char* to_string(RunExit exit) {
         case RunExit::kWatchdogReset: return "watchdog_reset";
         case RunExit::kSimavrError: return "simavr_error";
         case RunExit::kStackOverflow: return "stack_overflow";
+        case RunExit::kTimeLimit: return "time_limit";
     }
     return "unknown";
+}
+
+FirmwareRunOptions::Send parse_send(const std::string& spec, uint32_t clock_hz) {
+    const auto at = spec.rfind('@');
+    if (at == std::string::npos) throw std::invalid_argument("--send '" + spec + "': expected TEXT@TIME, e.g. 1@2s");
+    const std::string text = spec.substr(0, at);
+    const std::string time = spec.substr(at + 1);
+    FirmwareRunOptions::Send s;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i] != '\\' || i + 1 == text.size()) {
+            s.bytes.push_back(text[i]);
+            continue;
+        }
+        const char e = text[++i];
+        if (e == 'r') {
+            s.bytes.push_back('\r');
+        } else if (e == 'n') {
+            s.bytes.push_back('\n');
+        } else if (e == 't') {
+            s.bytes.push_back('\t');
+        } else if (e == '\\') {
+            s.bytes.push_back('\\');
+        } else if (e == 'x' && i + 2 < text.size() && std::isxdigit(static_cast<unsigned char>(text[i + 1])) != 0 &&
+                   std::isxdigit(static_cast<unsigned char>(text[i + 2])) != 0) {
+            s.bytes.push_back(static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16)));
+            i += 2;
+        } else {
+            throw std::invalid_argument(
+                fmt::format("--send '{}': unknown escape '\\{}' (known: \\r \\n \\t \\\\ \\xHH)", spec, e));
+        }
+    }
+    if (s.bytes.empty()) throw std::invalid_argument("--send '" + spec + "': nothing to send");
+    double value = -1.0;
+    std::size_t used = 0;
+    try {
+        value = std::stod(time, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    const std::string unit = time.substr(used);
+    const double scale = unit == "s" ? 1.0 : unit == "ms" ? 1e-3 : unit == "us" ? 1e-6 : -1.0;
+    if (used == 0 || scale < 0 || !(value >= 0.0) || !std::isfinite(value)) {
+        throw std::invalid_argument("--send '" + spec + "': TIME '" + time +
+                                    "' must be a non-negative number with a unit: s, ms or us (e.g. 2s)");
+    }
+    s.at_cycle = hil::s_to_cycles(value * scale, clock_hz);
+    return s;
 }
 
 FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
@@ -288,22 +363,35 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const hil::ElfImage elf = hil::ElfImage::read(options.firmware);
     elf.require_atmega328p();
     hil::AvrCore::check_loadable(elf);
-    const hil::ElfSymbol ready = elf.require(options.ready_symbol);
+    // The reference sketch's protocol when its ELF speaks it (or --case /
+    // --ready-symbol ask for it); otherwise a plain time-limited run.
+    const bool reference =
+        options.reference_protocol_required || speaks_reference_protocol(elf, options.ready_symbol);
+    std::optional<hil::ElfSymbol> ready;
+    if (reference) {
+        ready = elf.require(options.ready_symbol);
+        if (!ready->is_function) {
+            throw std::runtime_error(fmt::format("firmware {}: symbol '{}' is not a function",
+                                                 options.firmware.string(), options.ready_symbol));
+        }
+    }
     std::optional<hil::ElfSymbol> loop_mark;
     if (options.profile_top == 0) {
         throw std::invalid_argument("--top 0: give the number of functions to print, >= 1");
     }
+    const std::string loop_mark_name =
+        reference || options.loop_mark_given || !options.profile ? options.loop_mark
+                                                                  : default_loop_mark(elf, options.firmware.string());
     if (options.profile) {
-        loop_mark = elf.require(options.loop_mark);
+        loop_mark = elf.require(loop_mark_name);
         if (!loop_mark->is_function || loop_mark->size == 0) {
             throw std::runtime_error(fmt::format("firmware {}: --loop-mark '{}' is not a function",
-                                                 options.firmware.string(), options.loop_mark));
+                                                 options.firmware.string(), loop_mark_name));
         }
     }
-    if (!ready.is_function) {
-        throw std::runtime_error(fmt::format("firmware {}: symbol '{}' is not a function",
-                                             options.firmware.string(), options.ready_symbol));
-    }
+    std::vector<FirmwareRunOptions::Send> sends = options.sends;
+    std::stable_sort(sends.begin(), sends.end(),
+                     [](const auto& a, const auto& b) { return a.at_cycle < b.at_cycle; });
     std::optional<hil::EepromImage> preload;
     if (options.eeprom_preload) preload = hil::EepromPort::load_image(*options.eeprom_preload);
     const hil::RigConfig config = rig_config(options);
@@ -315,9 +403,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     hil::UartLink& uart = rig.uart();
     core.log().set_echo(options.echo_simavr_log ? stderr : nullptr);
     if (preload) rig.eeprom().preload(*preload);
-    // Firmware globals traced per iteration: a firmware without them (not the
-    // reference sketch) is refused here, before anything is written.
-    hil::LoopTracer tracer(rig.variables(), kLoopMarker, traced_variables());
+    // The reference sketch's globals traced per iteration (firmware.csv): a
+    // firmware required to speak its protocol without them is refused here,
+    // before anything is written.
+    std::optional<hil::LoopTracer> tracer;
+    if (reference) tracer.emplace(rig.variables(), kLoopMarker, traced_variables());
     hil::IsrMonitor isr_monitor(core, elf);
     const hil::StackGuard stack_guard(core, elf);
     // Torn reads of Count1/Count2 (the reference sketch's ISR-written globals);
@@ -367,6 +457,12 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         vcd_writer.emplace([&file = *vcd_file](std::string_view text) { file.write(text); }, vcd_config);
         vcd.emplace(rig, elf, *vcd_writer, profiler ? &*profiler : nullptr);
     }
+    if (!reference) {
+        std::fprintf(stderr,
+                     "ddmr-hil: %s does not define the reference sketch's globals (Ex, Ey, Theta, t, ...): no sketch "
+                     "contract, so it runs %g simulated s (--seconds) and ends with exit_reason time_limit\n",
+                     options.firmware.c_str(), options.max_sim_seconds);
+    }
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
     AtomicFileWriter truth_csv(options.out_dir / "truth.csv");
@@ -377,13 +473,14 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         append_truth_row(row, s, /*with_drive=*/true);
         truth_csv.write(row);
     });
-    AtomicFileWriter firmware_csv(options.out_dir / "firmware.csv");
+    std::optional<AtomicFileWriter> firmware_csv;
     // uart.txt grows as the firmware writes, so no copy of it is held in memory.
     AtomicFileWriter uart_txt(options.out_dir / "uart.txt");
-    {
+    if (reference) {
+        firmware_csv.emplace(options.out_dir / "firmware.csv");
         std::string header = "iteration,cycle,t_avr_s";
         for (const auto& v : traced_variables()) header += "," + v.name;
-        firmware_csv.write(header + "\n");
+        firmware_csv->write(header + "\n");
     }
     // Loop period: gaps between consecutive iterations whose `t` increased
     // (the sketch resets t to 0 after its report: not an iteration).
@@ -397,13 +494,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const auto t_index = static_cast<std::size_t>(
         std::find_if(traced.begin(), traced.end(), [](const auto& v) { return v.name == kLoopMarker.name; }) -
         traced.begin());
-    tracer.set_sink([&](Cycles cycle, const std::vector<double>& values) {
+    if (tracer) tracer->set_sink([&](Cycles cycle, const std::vector<double>& values) {
         row.clear();
-        fmt::format_to(std::back_inserter(row), "{},{},{:.7f}", tracer.iterations(), cycle,
+        fmt::format_to(std::back_inserter(row), "{},{},{:.7f}", tracer->iterations(), cycle,
                        hil::cycles_to_s(cycle, core.clock_hz()));
         for (double v : values) fmt::format_to(std::back_inserter(row), ",{:.9g}", v);
         row.push_back('\n');
-        firmware_csv.write(row);
+        firmware_csv->write(row);
         const double t = values[t_index];
         if (t > last_t) {
             ++loop_iterations;
@@ -447,7 +544,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     }
     rig.coupler().set_boundary_hook([&](Cycles cycle) {
-        tracer.poll(cycle);
+        if (tracer) tracer->poll(cycle);
         if (trace_tracer && options.trace_every_cycles == 0) trace_tracer->poll(cycle);
         if (vcd) vcd->on_boundary(cycle);
     });
@@ -456,17 +553,21 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     hil::FirmwareReportParser parser(/*expects_eeprom_dump=*/options.test_case == 1);
     // The firmware's end pose is read as it sends "END": right after, the
     // sketch reuses Ex/Ey to print the EEPROM log and then zeroes them.
-    const hil::Variable ex = rig.variables().lookup("Ex", hil::VarType::kFloat);
-    const hil::Variable ey = rig.variables().lookup("Ey", hil::VarType::kFloat);
-    const hil::Variable theta = rig.variables().lookup("Theta", hil::VarType::kFloat);
+    std::optional<hil::Variable> ex, ey, theta;
+    if (reference) {
+        ex = rig.variables().lookup("Ex", hil::VarType::kFloat);
+        ey = rig.variables().lookup("Ey", hil::VarType::kFloat);
+        theta = rig.variables().lookup("Theta", hil::VarType::kFloat);
+    }
     uart.set_listener([&](const hil::UartByte& b) {
         uart_txt.write(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
+        if (!reference) return;
         const bool was_done = parser.complete() || parser.error().has_value();
         const bool had_ended = parser.report().ended;
         parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
         if (!had_ended && parser.report().ended) {
             const auto& vars = rig.variables();
-            result.end_pose_firmware = plant::Pose{vars.read(ex), vars.read(ey), vars.read(theta)};
+            result.end_pose_firmware = plant::Pose{vars.read(*ex), vars.read(*ey), vars.read(*theta)};
         }
         if (was_done) return;
         if (parser.error()) {
@@ -489,21 +590,43 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     WallClockGuard wall_guard{&core, wall_start, options.max_wall_seconds, false,
                               hil::s_to_cycles(kProgressPeriodS, core.clock_hz())};
     if (!options.gdb_port) avr_cycle_timer_register(core.raw(), wall_guard.period, &on_wall_check, &wall_guard);
-    hil::RunStop stop = killed() ? hil::RunStop::kCondition : core.run_until_return_from(ready, limit);
-    if (gdb) gdb->release_if_detached();
-    if (stop == hil::RunStop::kCondition && !killed() && !wall_guard.tripped &&
-        rig.coupler().status() == plant::StepStatus::ok) {
-        result.ready_cycle = core.cycle();
-        progress("ready");
-        if (profiler) profiler->arm();
-        uart.send(std::string(1, static_cast<char>('0' + options.test_case)));
+    // --send bytes go out at their times (those due during the reference
+    // sketch's boot at its ready point, with the case byte).
+    std::size_t next_send = 0;
+    const auto send_due = [&] {
+        for (; next_send < sends.size() && sends[next_send].at_cycle <= core.cycle(); ++next_send) {
+            uart.send(sends[next_send].bytes);
+        }
+    };
+    hil::RunStop stop = hil::RunStop::kReachedCycle;
+    if (reference) {
+        stop = killed() ? hil::RunStop::kCondition : core.run_until_return_from(*ready, limit);
+        if (gdb) gdb->release_if_detached();
+    } else if (profiler) {
+        profiler->arm();  // every iteration from reset on
+    }
+    const bool booted = !reference || (stop == hil::RunStop::kCondition && !killed() && !wall_guard.tripped &&
+                                       rig.coupler().status() == plant::StepStatus::ok);
+    if (booted) {
+        if (reference) {
+            result.ready_cycle = core.cycle();
+            progress("ready");
+            if (profiler) profiler->arm();
+            uart.send(std::string(1, static_cast<char>('0' + options.test_case)));
+        }
+        const Cycles progress_period = hil::s_to_cycles(kProgressPeriodS, core.clock_hz());
+        Cycles next_progress = core.cycle() + progress_period;
         stop = hil::RunStop::kReachedCycle;
-        while (stop == hil::RunStop::kReachedCycle && core.cycle() < limit) {
-            const Cycles next = std::min<Cycles>(
-                limit, core.cycle() + hil::s_to_cycles(kProgressPeriodS, core.clock_hz()));
+        while (stop == hil::RunStop::kReachedCycle && core.cycle() < limit && !killed()) {
+            send_due();
+            Cycles next = std::min(limit, next_progress);
+            if (next_send < sends.size()) next = std::min(next, sends[next_send].at_cycle);
             stop = core.run_until(next);
             if (gdb) gdb->release_if_detached();  // back to full speed once gdb has left
-            if (stop == hil::RunStop::kReachedCycle) progress("running");
+            if (stop == hil::RunStop::kReachedCycle && core.cycle() >= next_progress) {
+                progress("running");
+                next_progress = core.cycle() + progress_period;
+            }
         }
     }
 
@@ -534,6 +657,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         } else {
             result.exit = RunExit::kReportComplete;
         }
+    } else if (!reference) {
+        result.exit = RunExit::kTimeLimit;  // the run it was asked for, complete
     } else {  // kReachedCycle
         result.exit = RunExit::kTimeout;
         result.message = result.ready_cycle
@@ -597,7 +722,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     isr["torn_reads"] = torn;
     const hil::EepromLogTiming log_timing =
         hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), result.ready_cycle.value_or(0), core.clock_hz());
-    const auto log = hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s);
+    // The EEPROM log layout is the reference sketch's: another firmware's bytes are not decoded.
+    const auto log = reference ? hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s)
+                               : decltype(hil::decode_eeprom_log(result.eeprom, 0, {})){};
     result.eeprom_log_samples = log.size();
     result.eeprom_writes = rig.eeprom_timing().write_count();
     result.eeprom_writes_recorded = rig.eeprom_timing().writes().size();
@@ -631,7 +758,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"sha256", sha256},
           {"flash_bytes", elf.memory_use().flash_bytes()},
           {"ram_bytes", elf.memory_use().ram_bytes()}}},
-        {"case", options.test_case},
+        {"protocol", reference ? "reference" : "none"},
+        {"case", reference ? json(options.test_case) : json(nullptr)},
         {"plant_file", options.plant_file ? options.plant_file->string() : "(embedded defaults)"},
         {"pwm", options.pwm == plant::DriveMode::switched ? "switched" : "averaged"},
         {"eeprom_timing", options.eeprom_timing == hil::EepromTimingMode::kDatasheet ? "datasheet" : "instant"},
@@ -672,7 +800,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                  {"torn_reads", torn.is_null() ? json(nullptr) : json{{"Count1", torn["Count1"]}, {"Count2", torn["Count2"]}}},
                  {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
-        {"firmware_report", report_json(result.report)},
+        {"firmware_report", reference ? report_json(result.report) : json(nullptr)},
         {"simavr_log",
          {{"errors", core.log().errors()},
           {"warnings", core.log().warnings()},
@@ -682,7 +810,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     write_file_atomic(options.out_dir / "eeprom.bin",
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()),
                                        result.eeprom.size()));
-    write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
+    if (reference) write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
     if (profiler) write_file_atomic(options.out_dir / "loop_profile.csv", loop_profile_csv);
     if (function_profiler) {
         write_file_atomic(options.out_dir / "profile.json", function_profile.dump(2) + "\n");
@@ -693,7 +821,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (trace_csv) trace_csv->commit();
     if (vcd_file) vcd_file->commit();
     truth_csv.commit();
-    firmware_csv.commit();
+    if (firmware_csv) firmware_csv->commit();
     write_file_atomic(options.out_dir / "summary.json", summary.dump(2) + "\n");
     return result;
 }

@@ -1,8 +1,15 @@
 #pragma once
-// One HIL run of a firmware, as `ddmr-hil run` does it: boot, wait for the
-// end of setup(), send the case byte, run until the firmware's end-of-run
-// report has been sent (or the simulated-time limit), then write the run's
-// artifacts atomically to the output folder.
+// One HIL run of a firmware, as `ddmr-hil run` does it, then the run's
+// artifacts written atomically to the output folder. Two protocols:
+//   reference: the thesis sketch's (its ELF defines `delay` and the traced
+//     globals Ex, Ey, Theta, t, ...): boot, wait for the end of setup(), send
+//     the case byte, run until the firmware's end-of-run report has been sent
+//     (or the simulated-time limit: exit timeout);
+//   none (any other firmware): run --seconds of simulated time and end with
+//     exit_reason time_limit (success); firmware.csv and eeprom_log.csv,
+//     which need the reference sketch's globals and log layout, are not written.
+// Both send the --send bytes at their times and end early with every failure
+// reason (crash, watchdog, stack overflow, ...).
 //
 // Outputs in `out_dir`:
 //   uart.txt        every byte the firmware sent, verbatim
@@ -61,6 +68,15 @@ struct FirmwareRunOptions {
     /// The case byte is sent when the firmware first returns from this function
     /// (the reference sketch's setup() ends with delay(5000)).
     std::string ready_symbol = "delay";
+    /// --case or --ready-symbol was given: the reference sketch's protocol is
+    /// required (a firmware without its symbols is refused, naming the first).
+    bool reference_protocol_required = false;
+    /// Bytes sent to the firmware's RX at an AVR time (--send TEXT@TIME).
+    struct Send {
+        std::string bytes;
+        hil::Cycles at_cycle = 0;
+    };
+    std::vector<Send> sends;
     std::optional<std::filesystem::path> eeprom_preload;  ///< 1024-byte image
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
     std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML
@@ -70,6 +86,7 @@ struct FirmwareRunOptions {
     hil::Cycles coupling_step_cycles = 1000;  ///< plant step [cycles] = max input latency
     bool profile = false;                 ///< exact loop cycle counts (single-steps: slower)
     std::string loop_mark = "delay";      ///< the function each loop iteration calls once
+    bool loop_mark_given = false;         ///< --loop-mark given (else: delay for the reference, loop() otherwise)
     std::size_t profile_top = 10;         ///< functions in the stdout table with profile, >= 1
     /// Firmware globals for trace.csv: "name" or "name:type" (type: int8 ...
     /// uint32, float; default by size: 1 uint8, 2 int16, 4 float).
@@ -98,7 +115,12 @@ enum class RunExit {
     kWatchdogReset,     ///< the watchdog reset the AVR
     kSimavrError,       ///< simavr reported an error (an invalid opcode, ...)
     kStackOverflow,     ///< the stack grew into .data/.bss (hil/stack_guard.hpp)
+    kTimeLimit,         ///< a firmware without the reference protocol ran its --seconds (success)
 };
+
+/// "TEXT@TIME" (C escapes \r \n \t \\ \xHH in TEXT; TIME with a unit: 2s,
+/// 500ms, 250us) -> bytes and AVR cycle. Throws std::invalid_argument naming it.
+FirmwareRunOptions::Send parse_send(const std::string& spec, uint32_t clock_hz);
 
 const char* to_string(RunExit exit);
 

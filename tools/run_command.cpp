@@ -8,6 +8,7 @@
 
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "hil/atmega328p.hpp"
 #include "hil/plant_coupler.hpp"
 
 namespace ddmr::tools {
@@ -26,6 +27,10 @@ struct RunCli {
     bool quiet = false;
     bool progress = false;
     int gdb_port = 0;  ///< 0: no --gdb
+    std::vector<std::string> sends;  ///< --send TEXT@TIME
+    CLI::Option* case_option = nullptr;
+    CLI::Option* ready_option = nullptr;
+    CLI::Option* loop_mark_option = nullptr;
 };
 
 }  // namespace
@@ -38,9 +43,10 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     cli->options.profile = profile_always;
     sub->add_option("--firmware", cli->options.firmware, "Firmware ELF for the ATmega328P")
         ->capture_default_str();
-    sub->add_option("--case", cli->options.test_case,
-                    "Case byte sent to the sketch: 1 = 0.6 m circle in 12 s, 2 = 0.4 m in 8 s")
-        ->capture_default_str();
+    cli->case_option = sub->add_option("--case", cli->options.test_case,
+                                       "Case byte sent to the reference sketch: 1 = 0.6 m circle in 12 s, 2 = "
+                                       "0.4 m in 8 s (asks for its protocol)")
+                           ->capture_default_str();
     sub->add_option("--seconds", cli->options.max_sim_seconds,
                     "Simulated-time limit [s]; the run ends earlier when the report is complete")
         ->capture_default_str();
@@ -51,9 +57,14 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     sub->add_option("--out", cli->out_dir, "Output folder [default: out/run-case<N>]");
     sub->add_option("--eeprom", cli->eeprom_preload,
                     "Preload the EEPROM from this 1024-byte image (default: erased, all 0xFF)");
-    sub->add_option("--ready-symbol", cli->options.ready_symbol,
-                    "Send the case byte when the firmware first returns from this function")
-        ->capture_default_str();
+    cli->ready_option = sub->add_option("--ready-symbol", cli->options.ready_symbol,
+                                        "Reference protocol: send the case byte when the firmware first returns "
+                                        "from this function (asks for that protocol)")
+                            ->capture_default_str();
+    sub->add_option("--send", cli->sends,
+                    "Send TEXT to the firmware's RX at AVR time TIME: TEXT@TIME, e.g. 'go\\r\\n@2s' (C escapes "
+                    "\\r \\n \\t \\\\ \\xHH; TIME in s, ms or us); repeatable")
+        ->take_all();
     sub->add_option("--uart-timing", cli->uart_timing,
                     "UART frame time: chip (datasheet, 8N1 = 10 bits) or simavr (1.6's 11 bits)")
         ->check(CLI::IsMember({"chip", "simavr"}))
@@ -103,9 +114,11 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "Write a value-change dump (GTKWave) of the run to FILE: Uno pins 0-3 and 10-13 (serial frames, "
                     "encoder edges, synthesised PWM, direction), one signal per ISR, the loop-iteration count; "
                     "time in ns of AVR time");
-    sub->add_option("--loop-mark", cli->options.loop_mark,
-                    "With --profile: the function each loop iteration calls once (its call ends the compute part)")
-        ->capture_default_str();
+    cli->loop_mark_option =
+        sub->add_option("--loop-mark", cli->options.loop_mark,
+                        "With --profile: the function each loop iteration calls once (its call ends the compute "
+                        "part); default delay for the reference sketch, loop() for any other firmware")
+            ->capture_default_str();
     sub->add_option("--top", cli->options.profile_top,
                     "With --profile: print the N functions with the most self cycles (profile.json and "
                     "profile.txt list all)")
@@ -118,6 +131,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
                         : cli->out_dir;
         if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
+        o.reference_protocol_required = cli->case_option->count() > 0 || cli->ready_option->count() > 0;
+        o.loop_mark_given = cli->loop_mark_option->count() > 0;
+        for (const std::string& spec : cli->sends) o.sends.push_back(parse_send(spec, hil::atmega328p::kClockHz));
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
         if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
         if (!cli->board_file.empty()) o.board_file = cli->board_file;
@@ -133,6 +149,20 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     o.out_dir.c_str(), to_string(r.exit), sim_s,
                     static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
                     r.wall_seconds > 0 ? static_cast<double>(r.cycles_total) / r.wall_seconds / 1e6 : 0.0);
+        if (r.exit == RunExit::kTimeLimit) {
+            std::printf("plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; encoder edges %llu / %llu (lost "
+                        "%llu / %llu); %llu UART bytes in uart.txt\n",
+                        r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
+                        static_cast<unsigned long long>(r.encoder[0].edges_injected),
+                        static_cast<unsigned long long>(r.encoder[1].edges_injected),
+                        static_cast<unsigned long long>(r.encoder[0].lost_edges),
+                        static_cast<unsigned long long>(r.encoder[1].lost_edges),
+                        static_cast<unsigned long long>(r.uart_bytes));
+            if (!r.function_profile_top.empty()) {
+                std::printf("%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
+            }
+            return kExitOk;
+        }
         if (r.exit != RunExit::kReportComplete) {
             std::fprintf(stderr, "ddmr-hil run: %s\n", r.message.c_str());
             return kExitFirmware;
@@ -180,8 +210,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
 Subcommand register_run_command(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "run",
-        "Run the firmware in simavr: boot, wait for setup() to end, send the case byte, and record "
-        "the UART, the EEPROM and a summary until the firmware's end-of-run report has been sent.");
+        "Run the firmware in simavr with the plant and record the UART, the EEPROM, the plant's truth and a "
+        "summary. The reference sketch: boot, wait for setup() to end, send the case byte, until its end-of-run "
+        "report has been sent. Any other firmware: --seconds of simulated time (exit_reason time_limit).");
     return add_run_options(sub, std::make_shared<RunCli>(), false);
 }
 

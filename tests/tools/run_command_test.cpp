@@ -17,6 +17,7 @@ namespace ddmr::test {
 namespace {
 
 using nlohmann::json;
+namespace fs = std::filesystem;
 
 std::string cli() { return sh_quote(cli_path().string()); }
 
@@ -393,6 +394,62 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"TopZero", "--profile --top 0", "--top"},
         BadInput{"TopNotANumber", "--profile --top many", "--top"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
+
+
+// --- A firmware without the reference sketch's protocol (no sketch contract) ---
+
+TEST(RunCommand, AnyFirmwareRunsItsSecondsAndEndsWithTimeLimit) {
+    // echo_fixture upper-cases what it receives: the --send bytes at 10 ms,
+    // then '\x41' (A) and a CR at 0.1 s, come back in uart.txt.
+    TempDir dir;
+    const auto out = dir / "echo";
+    const auto r = run_command(cli() + " run -q --firmware " + sh_quote((test_firmware_dir() / "echo_fixture.elf").string()) +
+                               " --seconds 0.25 --send 'go\\n@10ms' --send 'b\\x41\\r@0.1s' --out " +
+                               sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("no sketch contract"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("time_limit after 0.250 simulated s"), std::string::npos) << r.out;
+    EXPECT_EQ(read_text(out / "uart.txt"), "GO\nBA\r");
+    const json s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s["exit_reason"], "time_limit");
+    EXPECT_EQ(s["protocol"], "none");
+    // 0.25 s at 16 MHz, and the instruction in progress then (at most 4 cycles).
+    EXPECT_GE(s["cycles_total"].get<uint64_t>(), 4'000'000u);
+    EXPECT_LT(s["cycles_total"].get<uint64_t>(), 4'000'005u);
+    EXPECT_TRUE(s["firmware_report"].is_null());
+    for (const char* f : {"truth.csv", "eeprom.bin", "isr.json", "isr.md"}) EXPECT_TRUE(fs::exists(out / f)) << f;
+    // What needs the reference sketch's globals and EEPROM layout is not made up.
+    EXPECT_FALSE(fs::exists(out / "firmware.csv"));
+    EXPECT_FALSE(fs::exists(out / "eeprom_log.csv"));
+}
+
+TEST(RunCommand, AnyFirmwareIsProfiledFromResetWithTheGivenLoopMark) {
+    TempDir dir;
+    const auto r = run_command(cli() + " run -q --firmware " + sh_quote((test_firmware_dir() / "loop_fixture.elf").string()) +
+                               " --seconds 0.01 --profile --loop-mark mark --out " + sh_quote((dir / "loop").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json s = json::parse(read_text(dir / "loop" / "summary.json"));
+    // loop_fixture's iteration is 18 cycles (tests/firmware/loop_fixture.c): 160,000 cycles hold ~8,888.
+    EXPECT_GT(s["loop_profile"]["iterations"].get<uint64_t>(), 8000u);
+}
+
+TEST(RunCommand, AnyFirmwareRefusesTheReferenceOptionsAndBadSends) {
+    TempDir dir;
+    const std::string fw = " --firmware " + sh_quote((test_firmware_dir() / "echo_fixture.elf").string());
+    auto r = run_command(cli() + " run -q --case 2 --seconds 0.1" + fw + " --out " + sh_quote((dir / "a").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("has no symbol 'delay'"), std::string::npos) << r.err;
+    r = run_command(cli() + " run -q --seconds 0.1 --send 'x@2'" + fw + " --out " + sh_quote((dir / "b").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--send 'x@2': TIME '2' must be a non-negative number with a unit"), std::string::npos) << r.err;
+    r = run_command(cli() + " run -q --seconds 0.1 --send 'x\\q@1s'" + fw + " --out " + sh_quote((dir / "c").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("unknown escape"), std::string::npos) << r.err;
+    r = run_command(cli() + " profile -q --seconds 0.1" + fw + " --out " + sh_quote((dir / "d").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("neither loop() nor delay()"), std::string::npos) << r.err;
+    for (const char* d : {"a", "b", "c", "d"}) EXPECT_FALSE(fs::exists(dir / d)) << d;
+}
 
 }  // namespace
 }  // namespace ddmr::test
