@@ -19,7 +19,7 @@ namespace {
 using nlohmann::json;
 
 std::filesystem::path write(const TempDir& dir, const std::string& name, const std::string& text) {
-    const auto p = dir / name;
+    auto p = dir / name;  // not const: returned by move
     std::ofstream(p) << text;
     return p;
 }
@@ -57,6 +57,75 @@ steps:
     EXPECT_LT(t_answer, 5.1);
     EXPECT_EQ(read_text(dir / "out/start/uart.txt"), "0.6m\r\n");
     EXPECT_FALSE(std::filesystem::exists(dir / "out/start/failure_window.vcd"));
+}
+
+TEST(ScenarioCommand, WaitsForAndChecksPlantSignals) {
+    TempDir dir;
+    const auto f = write(dir, "signals.yaml", R"(name: signals
+timeout: 8s
+steps:
+  - delay: 100ms
+  - write-serial: "1"
+  - expect: { signal: left.wheel_rad_s, op: "==", value: 0 }      # setup() still waits
+  - wait-until: { signal: x_m, op: ">=", value: 0.05, timeout: 7s }
+  - expect: { signal: left.wheel_rad_s, between: [0.5, 100] }
+  - expect: { signal: right.wheel_rad_s, between: [0.5, 100] }
+  - stall: { motor: left, for: 50ms }
+  - delay: 20ms
+  - expect: { signal: left.wheel_rad_s, op: "==", value: 0 }       # left = motor 2: held
+  - expect: { signal: wheel2_rad_s, op: "==", value: 0 }
+  - expect: { signal: right.wheel_rad_s, op: ">", value: 0.5 }
+)");
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json j = result_of(dir / "out/signals");
+    EXPECT_EQ(j["verdict"], "pass") << j.dump(1);
+    ASSERT_EQ(j["steps"].size(), 11U);
+    // The robot starts after setup()'s delay(5000) and reaches 5 cm soon after.
+    const double t_reached = j["steps"][3]["t_s"].get<double>();
+    EXPECT_GT(t_reached, 5.0);
+    EXPECT_LT(t_reached, 6.0);
+    EXPECT_NE(j["steps"][3]["message"].get<std::string>().find("x_m = 0.05"), std::string::npos) << j["steps"][3];
+    EXPECT_NE(j["steps"][4]["message"].get<std::string>().find("left.wheel_rad_s = "), std::string::npos);
+}
+
+TEST(ScenarioCommand, PlantSignalFailuresSayTheValueSeen) {
+    TempDir dir;
+    const auto slow = write(dir, "far.yaml", R"(name: far
+timeout: 8s
+steps:
+  - delay: 100ms
+  - write-serial: "1"
+  - wait-until: { signal: x_m, op: ">=", value: 5, timeout: 5.5s }
+)");
+    const auto fast = write(dir, "fast.yaml", R"(name: fast
+timeout: 8s
+steps:
+  - delay: 100ms
+  - write-serial: "1"
+  - wait-until: { signal: right.edges, op: ">", value: 100, timeout: 6s }
+  - expect: { signal: left.wheel_rad_s, between: [100, 200] }
+)");
+    const auto r = scenario(sh_quote(slow.string()) + " " + sh_quote(fast.string()) + " --out " +
+                            sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const json a = result_of(dir / "out/far");
+    EXPECT_EQ(a["verdict"], "fail");
+    const std::string ma = a["message"].get<std::string>();
+    EXPECT_NE(ma.find("far.yaml:6: wait-until failed at t=5.600000 s: expected x_m >= 5 within 5.500 s; it was 0."),
+              std::string::npos)
+        << ma;
+    const json b = result_of(dir / "out/fast");
+    EXPECT_EQ(b["verdict"], "fail");
+    const std::string mb = b["message"].get<std::string>();
+    EXPECT_NE(mb.find("fast.yaml:7: expect failed"), std::string::npos) << mb;
+    EXPECT_NE(mb.find("expected left.wheel_rad_s in [100, 200], got "), std::string::npos) << mb;
+    // Polled at every coupling step (62.5 us): it stops on the first edges past 100.
+    const std::string edges = b["steps"][2]["message"].get<std::string>();
+    ASSERT_EQ(edges.find("right.edges = "), 0U) << edges;
+    const int seen = std::stoi(edges.substr(14));
+    EXPECT_GT(seen, 100);
+    EXPECT_LE(seen, 102);
 }
 
 TEST(ScenarioCommand, ResetRestartsTheFirmwareWithTheRobotAttached) {

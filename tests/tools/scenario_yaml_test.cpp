@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
+#include "common/truth_csv.hpp"
+#include "hil/plant_coupler.hpp"
 #include "support/test_paths.hpp"
 
 namespace ddmr::tools::scenario {
@@ -74,6 +77,88 @@ steps:
     EXPECT_EQ(s.steps[5].line, 10);
 }
 
+TEST(ScenarioYaml, ParsesPlantSignalStepsAndWheelNames) {
+    const Scenario s = parse(R"(timeout: 10s
+steps:
+  - wait-until: { signal: x_m, op: ">=", value: 0.05, timeout: 7s }
+  - wait-until: { signal: left.edges, value: 3 }
+  - expect: { signal: left.wheel_rad_s, between: [1.5, 30] }
+  - expect: { signal: vbatt_V, op: "<", value: 12 }
+  - expect: { signal: dir2, value: 1 }
+  - inject: { encoder: left, drop: 0.1 }
+  - stall: { motor: right, for: 10ms }
+  - slip: { wheel: left, traction: 0.5 }
+  - slip: { wheel: 1, traction: 0.5 }
+)");
+    ASSERT_EQ(s.steps.size(), 9U);
+    const auto& w = std::get<WaitUntil>(s.steps[0].action);
+    EXPECT_EQ(w.signal, "x_m");
+    EXPECT_EQ(w.op, CompareOp::kGe);
+    EXPECT_EQ(w.value, 0.05);
+    EXPECT_EQ(w.timeout, 112'000'000U);
+    EXPECT_EQ(s.steps[0].kind, "wait-until");
+    EXPECT_EQ(s.steps[0].line, 3);
+    const auto& w2 = std::get<WaitUntil>(s.steps[1].action);
+    EXPECT_EQ(w2.op, CompareOp::kEq);  // as expect-var: == by default
+    EXPECT_EQ(w2.timeout, 0U);         // none: the scenario's timeout ends it
+    const auto& b = std::get<ExpectSignal>(s.steps[2].action);
+    EXPECT_EQ(b.signal, "left.wheel_rad_s");
+    ASSERT_TRUE(b.between.set());
+    EXPECT_EQ(*b.between.min, 1.5);
+    EXPECT_EQ(*b.between.max, 30.0);
+    const auto& o = std::get<ExpectSignal>(s.steps[3].action);
+    EXPECT_FALSE(o.between.set());
+    EXPECT_EQ(o.op, CompareOp::kLt);
+    EXPECT_EQ(o.value, 12.0);
+    EXPECT_EQ(std::get<ExpectSignal>(s.steps[4].action).op, CompareOp::kEq);
+    // right = 1 = motor 1, left = 2 = motor 2; numbers still work.
+    EXPECT_EQ(std::get<InjectDrop>(s.steps[5].action).encoder, 2);
+    EXPECT_EQ(std::get<Stall>(s.steps[6].action).motor, 1);
+    EXPECT_EQ(std::get<Slip>(s.steps[7].action).wheel, 2);
+    EXPECT_EQ(std::get<Slip>(s.steps[8].action).wheel, 1);
+}
+
+TEST(ScenarioYaml, PlantSignalsReadTheTruthColumns) {
+    hil::TruthSample t;
+    t.x_m = 0.25;
+    t.ia1_A = 0.5;
+    t.ia2_A = 0.75;
+    t.wheel1_rad_s = 3.0;
+    t.wheel2_rad_s = 4.0;
+    t.edges1 = 10;
+    t.edges2 = 20;
+    t.duty1 = 0.1;
+    t.duty2 = 0.2;
+    t.dir2 = true;
+    EXPECT_EQ(plant_signal(t, "x_m"), 0.25);
+    EXPECT_EQ(plant_signal(t, "right.wheel_rad_s"), 3.0);
+    EXPECT_EQ(plant_signal(t, "left.wheel_rad_s"), 4.0);
+    EXPECT_EQ(plant_signal(t, "right.current_A"), 0.5);
+    EXPECT_EQ(plant_signal(t, "left.current_A"), 0.75);
+    EXPECT_EQ(plant_signal(t, "right.edges"), 10.0);
+    EXPECT_EQ(plant_signal(t, "left.edges"), 20.0);
+    EXPECT_EQ(plant_signal(t, "right.duty"), 0.1);
+    EXPECT_EQ(plant_signal(t, "left.duty"), 0.2);
+    EXPECT_EQ(plant_signal(t, "dir1"), 0.0);
+    EXPECT_EQ(plant_signal(t, "dir2"), 1.0);
+    EXPECT_THROW(plant_signal(t, "t_s"), std::invalid_argument);
+    // Every truth.csv column but t_s is a signal.
+    std::string header = truth_csv_header(/*with_drive=*/true);
+    header.pop_back();  // "\n"
+    std::size_t columns = 0;
+    for (std::size_t at = 0; at <= header.size();) {
+        const std::size_t comma = std::min(header.find(',', at), header.size());
+        const std::string column = header.substr(at, comma - at);
+        if (column != "t_s") {
+            EXPECT_TRUE(is_plant_signal(column)) << column;
+            ++columns;
+        }
+        at = comma + 1;
+    }
+    EXPECT_EQ(columns, 16U);
+    EXPECT_EQ(plant_signal_names().size(), 24U);
+}
+
 TEST(ScenarioYaml, TheSeedReachesTheEncoders) {
     const Scenario s = parse("timeout: 1s\nseed: 42\nsteps:\n  - delay: 1ms\n");
     EXPECT_EQ(s.plant.encoder[0].seed, 42U);
@@ -118,6 +203,45 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
         {"timeout: 1s\nfirmware: { elf: a.elf, sketch: b/b.ino }\nsteps:\n  - delay: 1ms\n", "give one of elf"},
         {"timeout: 1s\nfirmware: { sketch: ../x/x.ino }\nsteps:\n  - delay: 1ms\n", "leaves the scenario's folder"},
         {"timeout: 1s\nfirmware: { hex: a.hex }\nsteps:\n  - delay: 1ms\n", "key 'firmware.hex': unknown key"},
+        // wait-until and expect on plant signals
+        {"timeout: 1s\nsteps:\n  - delay: 1ms\n  - wait-until: { signal: x, op: \">\", value: 1 }\n",
+         "case.yaml:4: key 'wait-until.signal': 'x' is not a plant signal (one of x_m, "},
+        {"timeout: 1s\nsteps:\n  - wait-until: { signal: t_s, value: 1 }\n", "key 'wait-until.signal': 't_s'"},
+        {"timeout: 1s\nsteps:\n  - wait-until: { op: \">\", value: 1 }\n",
+         "case.yaml:3: key 'wait-until': missing required key 'signal'"},
+        {"timeout: 1s\nsteps:\n  - wait-until: { signal: x_m, op: \">\" }\n",
+         "case.yaml:3: key 'wait-until': missing required key 'value'"},
+        {"timeout: 1s\nsteps:\n  - wait-until: { signal: x_m, op: \"=>\", value: 1 }\n",
+         "key 'wait-until.op': '=>' is not one of =="},
+        {"timeout: 1s\nsteps:\n  - wait-until: { signal: x_m, value: 1, timeout: 5 }\n",
+         "key 'wait-until.timeout': duration '5'"},
+        {"timeout: 1s\nsteps:\n  - wait-until: { signal: x_m, value: 1, between: [0, 1] }\n",
+         "key 'wait-until.between': unknown key"},
+        {"timeout: 1s\nsteps:\n  - wait-until: { signal: x_m, value: .nan }\n", "key 'wait-until.value'"},
+        {"timeout: 1s\nsteps:\n  - wait-until: x_m\n", "key 'wait-until': expected a mapping of keys"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: left.speed, value: 1 }\n",
+         "case.yaml:3: key 'expect.signal': 'left.speed' is not a plant signal"},
+        {"timeout: 1s\nsteps:\n  - expect: { value: 1 }\n", "case.yaml:3: key 'expect': missing required key 'signal'"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, op: \"<\" }\n",
+         "case.yaml:3: key 'expect': missing required key 'value' (or give between: [min, max])"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m }\n", "key 'expect': missing required key 'value'"},
+        {"timeout: 1s\nsteps:\n  - expect:\n      signal: x_m\n      between: [2, 1]\n",
+         "case.yaml:5: key 'expect.between': min 2 is above max 1"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, op: \"<\", between: [0, 1] }\n",
+         "case.yaml:3: key 'expect': give op and value, or between: [min, max], not both"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, value: 1, between: [0, 1] }\n", "not both"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, between: [0, 1, 2] }\n",
+         "key 'expect.between': expected [min, max]"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, between: 1 }\n", "key 'expect.between': expected [min, max]"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, between: [a, 1] }\n",
+         "key 'expect.between[0]': 'a' is not a number"},
+        {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, value: 1, tol: 0.1 }\n", "key 'expect.tol': unknown key"},
+        // wheel names in faults
+        {"timeout: 1s\nsteps:\n  - delay: 1ms\n  - stall: { motor: front, for: 1ms }\n",
+         "case.yaml:4: key 'stall.motor': 'front' is not a wheel (1 or right, 2 or left)"},
+        {"timeout: 1s\nsteps:\n  - slip: { wheel: Left, traction: 0.5 }\n", "key 'slip.wheel': 'Left' is not a wheel"},
+        {"timeout: 1s\nsteps:\n  - inject: { encoder: centre, drop: 0.1 }\n", "key 'inject.encoder': 'centre' is not a wheel"},
+        {"timeout: 1s\nsteps:\n  - slip: { wheel: 0, traction: 0.5 }\n", "key 'slip.wheel': '0' is not a wheel"},
     };
     for (const Case& c : cases) {
         const std::string msg = refusal(c.text);

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -19,6 +20,10 @@
 #include "hil/board.hpp"
 #include "plant/l298_driver.hpp"
 #include "plant/robot_params.hpp"
+
+namespace ddmr::hil {
+struct TruthSample;
+}
 
 namespace ddmr::tools::scenario {
 
@@ -107,11 +112,36 @@ struct ExpectIsr {  ///< `expect-isr: {vector: INT0, max_latency_cycles: 200}`
 /// No read of Count1/Count2 split by its ISR returned a value the variable
 /// never held (a split read of an unchanged byte pattern is harmless).
 struct ExpectNoTornReads {};
+
+// --- plant signals (the robot's ground truth now) ---------------------------
+/// The names a scenario can check: every truth.csv column but t_s (x_m, ...,
+/// dir2) and the wheel aliases (left.wheel_rad_s, ...; right = motor 1,
+/// left = motor 2). In docs/scenarios.md order.
+const std::vector<std::string>& plant_signal_names();
+bool is_plant_signal(std::string_view name);
+/// The signal's value in `t` (as truth.csv writes it; dir as 1/0). Throws
+/// std::invalid_argument for an unknown name.
+double plant_signal(const hil::TruthSample& t, std::string_view name);
+
+struct WaitUntil {  ///< `wait-until: {signal: x_m, op: ">=", value: 0.1, timeout: 7s}`
+    std::string signal;
+    CompareOp op = CompareOp::kEq;
+    double value = 0.0;
+    Cycles timeout = 0;  ///< 0: none of its own (as WaitSerial)
+};
+struct ExpectSignal {  ///< `expect: {signal, op, value}` or `expect: {signal, between: [a, b]}`
+    std::string signal;
+    CompareOp op = CompareOp::kEq;
+    double value = 0.0;
+    Range between;  ///< set: a <= signal <= b (instead of op and value)
+};
 struct ExpectEncoders {  ///< `expect-encoders: {max_lost: 0}`: edges lost at the pins
     uint64_t max_lost = 0;
 };
 
 // --- faults (at the step's time; `for:` ends them) --------------------------
+// Wheel numbers: 1 = right = motor 1, 2 = left = motor 2 (hil::wheel_name);
+// the files may give either.
 struct InjectDrop {  ///< `inject: {encoder: 1, drop: 0.05}`: seeded missed edges
     int encoder = 1;
     double drop = 0.0;
@@ -137,8 +167,8 @@ struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
 
 using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
                                 ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
-                                ExpectIsr, ExpectNoTornReads, ExpectEncoders, InjectDrop, Stall, Battery, Slip,
-                                Push, Reset>;
+                                ExpectIsr, ExpectNoTornReads, ExpectEncoders, WaitUntil, ExpectSignal, InjectDrop,
+                                Stall, Battery, Slip, Push, Reset>;
 
 struct Step {
     int line = 0;        ///< 1-based line in the scenario file

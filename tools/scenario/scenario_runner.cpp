@@ -22,6 +22,7 @@
 #include "hil/eeprom_log.hpp"
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_profiler.hpp"
+#include "hil/plant_coupler.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/run_failure.hpp"
 #include "hil/serial_line.hpp"
@@ -598,6 +599,45 @@ private:
         for (unsigned ch = 0; ch < 2; ++ch) lost += rig_->encoders().stats(ch).lost_edges;
         if (lost > e.max_lost) throw StepFailed{Verdict::kFail, fmt::format("expected at most {} lost encoder edges, {} were lost", e.max_lost, lost)};
         return fmt::format("{} edges lost", lost);
+    }
+    /// A plant signal now, as truth.csv would write it.
+    double signal_now(const std::string& name) {
+        return plant_signal(hil::truth_sample_of(rig_->robot(), core().cycle()), name);
+    }
+    std::string run_step(const WaitUntil& w) {
+        const Cycles start = core().cycle();
+        const auto met = [&] { return holds(signal_now(w.signal), w.op, w.value); };
+        boundary_condition_ = met;
+        const Cycles end = w.timeout == 0 ? kNever : start + w.timeout;
+        bool ok = false;
+        try {
+            ok = advance(end, met);
+        } catch (StepFailed& f) {  // the scenario's timeout or a firmware failure: say what the signal was
+            boundary_condition_ = nullptr;
+            f.message += fmt::format("; {} was {:.9g}", w.signal, signal_now(w.signal));
+            throw;
+        }
+        boundary_condition_ = nullptr;
+        if (!ok) {
+            throw StepFailed{Verdict::kFail, fmt::format("expected {} {} {:.9g} within {:.3f} s; it was {:.9g}", w.signal,
+                                                         to_string(w.op), w.value, seconds(w.timeout),
+                                                         signal_now(w.signal))};
+        }
+        return fmt::format("{} = {:.9g} (polled every {} cycles)", w.signal, signal_now(w.signal),
+                           rig_->coupler().config().step_cycles);
+    }
+    std::string run_step(const ExpectSignal& e) {
+        const double v = signal_now(e.signal);
+        if (e.between.set()) {
+            if (!e.between.contains(v)) {
+                throw StepFailed{Verdict::kFail, fmt::format("expected {} in [{:.9g}, {:.9g}], got {:.9g}", e.signal,
+                                                             *e.between.min, *e.between.max, v)};
+            }
+        } else if (!holds(v, e.op, e.value)) {
+            throw StepFailed{Verdict::kFail,
+                             fmt::format("expected {} {} {:.9g}, got {:.9g}", e.signal, to_string(e.op), e.value, v)};
+        }
+        return fmt::format("{} = {:.9g}", e.signal, v);
     }
     void set_faults(const std::function<void(plant::RobotFaults&)>& change) {
         plant::RobotFaults f = rig_->robot().faults();

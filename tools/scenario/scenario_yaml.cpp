@@ -4,7 +4,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <regex>
@@ -13,6 +15,7 @@
 
 #include "hil/atmega328p.hpp"
 #include "hil/board.hpp"
+#include "hil/plant_coupler.hpp"
 #include "hil/uno_pins.hpp"
 #include "plant/params_yaml.hpp"
 
@@ -41,6 +44,72 @@ bool holds(double lhs, CompareOp op, double rhs) {
         case CompareOp::kGe: return lhs >= rhs;
     }
     return false;
+}
+
+namespace {
+
+/// A plant signal: its name and how to read it from a truth sample.
+struct SignalDef {
+    std::string_view name;
+    double (*get)(const hil::TruthSample&);
+};
+
+double level(bool b) { return b ? 1.0 : 0.0; }
+
+// truth.csv's columns (tools/common/truth_csv.cpp) but t_s, then the wheel
+// aliases: right = index 0 = motor 1, left = index 1 = motor 2 (hil::wheel_name).
+constexpr std::array kSignals{
+    SignalDef{"x_m", [](const hil::TruthSample& t) { return t.x_m; }},
+    SignalDef{"y_m", [](const hil::TruthSample& t) { return t.y_m; }},
+    SignalDef{"theta_rad", [](const hil::TruthSample& t) { return t.theta_rad; }},
+    SignalDef{"v_m_s", [](const hil::TruthSample& t) { return t.v_m_s; }},
+    SignalDef{"omega_rad_s", [](const hil::TruthSample& t) { return t.omega_rad_s; }},
+    SignalDef{"ia1_A", [](const hil::TruthSample& t) { return t.ia1_A; }},
+    SignalDef{"ia2_A", [](const hil::TruthSample& t) { return t.ia2_A; }},
+    SignalDef{"wheel1_rad_s", [](const hil::TruthSample& t) { return t.wheel1_rad_s; }},
+    SignalDef{"wheel2_rad_s", [](const hil::TruthSample& t) { return t.wheel2_rad_s; }},
+    SignalDef{"vbatt_V", [](const hil::TruthSample& t) { return t.vbatt_V; }},
+    SignalDef{"edges1", [](const hil::TruthSample& t) { return static_cast<double>(t.edges1); }},
+    SignalDef{"edges2", [](const hil::TruthSample& t) { return static_cast<double>(t.edges2); }},
+    SignalDef{"duty1", [](const hil::TruthSample& t) { return t.duty1; }},
+    SignalDef{"duty2", [](const hil::TruthSample& t) { return t.duty2; }},
+    SignalDef{"dir1", [](const hil::TruthSample& t) { return level(t.dir1); }},
+    SignalDef{"dir2", [](const hil::TruthSample& t) { return level(t.dir2); }},
+    SignalDef{"right.wheel_rad_s", [](const hil::TruthSample& t) { return t.wheel1_rad_s; }},
+    SignalDef{"left.wheel_rad_s", [](const hil::TruthSample& t) { return t.wheel2_rad_s; }},
+    SignalDef{"right.current_A", [](const hil::TruthSample& t) { return t.ia1_A; }},
+    SignalDef{"left.current_A", [](const hil::TruthSample& t) { return t.ia2_A; }},
+    SignalDef{"right.edges", [](const hil::TruthSample& t) { return static_cast<double>(t.edges1); }},
+    SignalDef{"left.edges", [](const hil::TruthSample& t) { return static_cast<double>(t.edges2); }},
+    SignalDef{"right.duty", [](const hil::TruthSample& t) { return t.duty1; }},
+    SignalDef{"left.duty", [](const hil::TruthSample& t) { return t.duty2; }},
+};
+
+const SignalDef* find_signal(std::string_view name) {
+    for (const SignalDef& d : kSignals) {
+        if (d.name == name) return &d;
+    }
+    return nullptr;
+}
+
+}  // namespace
+
+const std::vector<std::string>& plant_signal_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> v;
+        v.reserve(kSignals.size());
+        for (const SignalDef& d : kSignals) v.emplace_back(d.name);
+        return v;
+    }();
+    return names;
+}
+
+bool is_plant_signal(std::string_view name) { return find_signal(name) != nullptr; }
+
+double plant_signal(const hil::TruthSample& t, std::string_view name) {
+    const SignalDef* d = find_signal(name);
+    if (d == nullptr) throw std::invalid_argument(fmt::format("'{}' is not a plant signal", name));
+    return d->get(t);
 }
 
 bool Scenario::needs_loop_profile() const {
@@ -213,6 +282,28 @@ void check_regex(const Ctx& c, const std::string& pattern) {
     }
 }
 
+/// A wheel: 1 or `right` (motor 1), 2 or `left` (motor 2).
+int wheel_number(const Ctx& c) {
+    const std::string s = c.str();
+    if (s == "right") return 1;
+    if (s == "left") return 2;
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    // cppcheck-suppress missingReturn ; the path ends in Ctx::fail, [[noreturn]] (it throws)
+    if (!s.empty() && end == s.c_str() + s.size() && (v == 1.0 || v == 2.0)) return static_cast<int>(v);
+    c.fail(fmt::format("'{}' is not a wheel (1 or right, 2 or left)", s));
+}
+
+std::string plant_signal_name(const Ctx& c) {
+    std::string s = c.str();
+    if (!is_plant_signal(s)) {
+        std::string list;
+        for (const std::string& n : plant_signal_names()) list += (list.empty() ? "" : ", ") + n;
+        c.fail(fmt::format("'{}' is not a plant signal (one of {})", s, list));
+    }
+    return s;
+}
+
 std::optional<Cycles> optional_for(const Ctx& c) {
     if (!c.has("for")) return std::nullopt;
     return c.child("for").duration();
@@ -347,14 +438,43 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
         c.keys({"max_lost"}, {"max_lost"});
         return ExpectEncoders{c.child("max_lost").count()};
     }
+    if (kind == "wait-until") {
+        c.keys({"signal", "op", "value", "timeout"}, {"signal", "value"});
+        WaitUntil w;
+        w.signal = plant_signal_name(c.child("signal"));
+        if (c.has("op")) w.op = compare_op(c.child("op"));
+        w.value = c.child("value").number();
+        if (c.has("timeout")) w.timeout = c.child("timeout").duration();
+        return w;
+    }
+    if (kind == "expect") {
+        c.keys({"signal", "op", "value", "between"}, {"signal"});
+        ExpectSignal e;
+        e.signal = plant_signal_name(c.child("signal"));
+        if (c.has("between")) {
+            if (c.has("op") || c.has("value")) c.fail("give op and value, or between: [min, max], not both");
+            const Ctx b = c.child("between");
+            if (!b.node().IsSequence() || b.node().size() != 2) b.fail("expected [min, max]");
+            e.between.min = Ctx(b.file(), b.node()[0], b.key() + "[0]").number();
+            e.between.max = Ctx(b.file(), b.node()[1], b.key() + "[1]").number();
+            if (*e.between.min > *e.between.max) {
+                b.fail(fmt::format("min {} is above max {}", *e.between.min, *e.between.max));
+            }
+            return e;
+        }
+        if (!c.has("value")) c.fail("missing required key 'value' (or give between: [min, max])");
+        if (c.has("op")) e.op = compare_op(c.child("op"));
+        e.value = c.child("value").number();
+        return e;
+    }
     if (kind == "inject") {
         c.keys({"encoder", "drop", "for"}, {"encoder", "drop"});
-        return InjectDrop{c.child("encoder").integer_in(1, 2), c.child("drop").number_in(0, 0.5, "[0, 0.5]"),
+        return InjectDrop{wheel_number(c.child("encoder")), c.child("drop").number_in(0, 0.5, "[0, 0.5]"),
                           optional_for(c)};
     }
     if (kind == "stall") {
         c.keys({"motor", "for"}, {"motor", "for"});
-        return Stall{c.child("motor").integer_in(1, 2), c.child("for").duration()};
+        return Stall{wheel_number(c.child("motor")), c.child("for").duration()};
     }
     if (kind == "battery") {
         c.keys({"volts", "for"}, {"volts"});
@@ -362,7 +482,7 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
     }
     if (kind == "slip") {
         c.keys({"wheel", "traction", "for"}, {"wheel", "traction"});
-        return Slip{c.child("wheel").integer_in(1, 2), c.child("traction").number_in(0, 1, "[0, 1]"),
+        return Slip{wheel_number(c.child("wheel")), c.child("traction").number_in(0, 1, "[0, 1]"),
                     optional_for(c)};
     }
     if (kind == "push") {
