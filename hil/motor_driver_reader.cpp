@@ -29,17 +29,19 @@ BridgeState mirrored(BridgeState s, bool reversed) {
     return s;
 }
 
+/// The field of a driver's truth-table inputs that `r` feeds (levels or duties).
 template <class T, class V>
-void set_role(T& fields, DriverRole r, V v) {
+V T::*field_of(DriverRole r) {
     switch (r) {
-        case DriverRole::pwm: fields.pwm = v; break;
-        case DriverRole::dir: fields.dir = v; break;
-        case DriverRole::en: fields.en = v; break;
-        case DriverRole::in1: fields.in1 = v; break;
-        case DriverRole::in2: fields.in2 = v; break;
-        case DriverRole::stby: fields.stby = v; break;
-        case DriverRole::sleep: fields.sleep = v; break;
+        case DriverRole::pwm: return &T::pwm;
+        case DriverRole::dir: return &T::dir;
+        case DriverRole::en: return &T::en;
+        case DriverRole::in1: return &T::in1;
+        case DriverRole::in2: return &T::in2;
+        case DriverRole::stby: return &T::stby;
+        case DriverRole::sleep: return &T::sleep;
     }
+    return &T::pwm;
 }
 
 }  // namespace
@@ -52,7 +54,11 @@ MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board)
         wheel_[m].reversed = w.reversed;
         for (std::size_t r = 0; r < kDriverRoleCount; ++r) {
             const InputWire& in = w.input[r];
-            if (in.used) wheel_[m].inputs.push_back(Input{static_cast<DriverRole>(r), in.tied_high, in.pin});
+            if (!in.used) continue;
+            const auto role = static_cast<DriverRole>(r);
+            wheel_[m].inputs[wheel_[m].count++] =
+                Input{role, in.tied_high, in.pin, field_of<plant::DriverInputLevels, bool>(role),
+                      field_of<plant::DriverInputDuties, double>(role)};
         }
     }
 }
@@ -69,8 +75,9 @@ double MotorDriverReader::duty_of(const Input& in) const {
 }
 
 bool MotorDriverReader::input_level(std::size_t m, DriverRole r, Cycles cycle) const {
-    for (const Input& in : wheel_[m].inputs) {
-        if (in.role == r) return level_of(in, cycle);
+    const Wheel& w = wheel_[m];
+    for (std::size_t i = 0; i < w.count; ++i) {
+        if (w.inputs[i].role == r) return level_of(w.inputs[i], cycle);
     }
     return false;
 }
@@ -78,25 +85,34 @@ bool MotorDriverReader::input_level(std::size_t m, DriverRole r, Cycles cycle) c
 BridgeState MotorDriverReader::state_at(std::size_t m, Cycles cycle) const {
     const Wheel& w = wheel_[m];
     plant::DriverInputLevels levels;
-    for (const Input& in : w.inputs) set_role(levels, in.role, level_of(in, cycle));
+    for (std::size_t i = 0; i < w.count; ++i) levels.*(w.inputs[i].level) = level_of(w.inputs[i], cycle);
     return mirrored(plant::bridge_state(w.driver, levels), w.reversed);
 }
 
 Cycles MotorDriverReader::next_change_after(std::size_t m, Cycles cycle) const {
+    const Wheel& w = wheel_[m];
     Cycles next = kNever;
-    for (const Input& in : wheel_[m].inputs) {
-        if (!in.tied_high) next = std::min(next, pins_.next_change_after(in.pin, cycle));
+    for (std::size_t i = 0; i < w.count; ++i) {
+        if (!w.inputs[i].tied_high) next = std::min(next, pins_.next_change_after(w.inputs[i].pin, cycle));
     }
     return next;
 }
 
 plant::BridgeInput MotorDriverReader::input_at(std::size_t m, Cycles cycle) const {
+    plant::BridgeInput b = averaged(m);
+    b.state = state_at(m, cycle);
+    return b;
+}
+
+plant::BridgeInput MotorDriverReader::averaged(std::size_t m) const {
+    AveragedCache& cache = averaged_[m];
+    if (cache.revision == pins_.revision()) return cache.input;
+    cache.revision = pins_.revision();
     const Wheel& w = wheel_[m];
     plant::DriverInputDuties duties;
-    for (const Input& in : w.inputs) set_role(duties, in.role, duty_of(in));
+    for (std::size_t i = 0; i < w.count; ++i) duties.*(w.inputs[i].duty) = duty_of(w.inputs[i]);
     const plant::BridgeAverage avg = plant::average_bridge(w.driver, duties);
-    plant::BridgeInput b;
-    b.state = state_at(m, cycle);
+    plant::BridgeInput& b = cache.input;
     const double forward = w.reversed ? avg.reverse : avg.forward;
     const double reverse = w.reversed ? avg.forward : avg.reverse;
     if (forward > reverse) {
@@ -119,7 +135,9 @@ plant::BridgeInput MotorDriverReader::input_at(std::size_t m, Cycles cycle) cons
 std::vector<std::string> MotorDriverReader::wiring_warnings() const {
     std::vector<std::string> out;
     for (std::size_t m = 0; m < 2; ++m) {
-        for (const Input& in : wheel_[m].inputs) {
+        const Wheel& w = wheel_[m];
+        for (std::size_t i = 0; i < w.count; ++i) {
+            const Input& in = w.inputs[i];
             if (in.tied_high || pins_.ever_output(in.pin)) continue;
             const bool pullup = pins_.mode(in.pin) == PinMode::input_pullup;
             out.push_back(fmt::format("pin {} ({}) is never set as an output: the driver sees only {}",

@@ -72,18 +72,30 @@ private:
         DriverRole role;
         bool tied_high;
         int pin;
+        bool plant::DriverInputLevels::*level;   ///< the truth table's field for this input
+        double plant::DriverInputDuties::*duty;  ///< the averaged model's field
     };
     struct Wheel {
         plant::DriverType driver;
         bool reversed;
-        std::vector<Input> inputs;
+        std::array<Input, kDriverRoleCount> inputs;  ///< the first `count` are used
+        std::size_t count = 0;
     };
     [[nodiscard]] bool level_of(const Input& in, Cycles cycle) const;
     [[nodiscard]] double duty_of(const Input& in) const;
 
+    /// The averaged drive of a wheel as of a PinWaveforms revision: it
+    /// changes only with a register, not with the cycle.
+    struct AveragedCache {
+        uint64_t revision = ~uint64_t{0};
+        plant::BridgeInput input{};
+    };
+    [[nodiscard]] plant::BridgeInput averaged(std::size_t m) const;
+
     BoardWiring board_;
     PinWaveforms pins_;
     std::array<Wheel, 2> wheel_{};
+    mutable std::array<AveragedCache, 2> averaged_{};
 };
 
 }  // namespace ddmr::hil

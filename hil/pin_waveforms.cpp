@@ -104,6 +104,7 @@ void PinWaveforms::sample_timer(std::size_t t) {
     const TimerRegisters r = read_timer(core_, kAtmega328pTimers[t]);
     if (same(r, last_regs_[t])) return;  // simavr also notifies reads
     last_regs_[t] = r;
+    ++revision_;
     TimerOutputDecoder& d = *timer_[t];
     const bool was_running = d.running();
     const std::array<bool, 2> was_connected{d.connected(0), d.connected(1)};
@@ -133,7 +134,10 @@ void PinWaveforms::sample_ports() {
     }();
     refresh_connections();
     for (std::size_t i = 0; i < pin_.size(); ++i) changed = changed || before[i] != pin_[i].connected;
-    if (changed) note_change(core_.cycle());
+    if (changed) {
+        ++revision_;
+        note_change(core_.cycle());
+    }
 }
 
 void PinWaveforms::refresh_connections() {
@@ -147,7 +151,10 @@ void PinWaveforms::refresh_connections() {
 void PinWaveforms::advance_to(Cycles cycle) {
     for (auto& t : timer_) {
         if (!t) continue;
-        if (const auto applied = t->advance_to(cycle)) note_change(*applied);
+        if (const auto applied = t->advance_to(cycle)) {
+            ++revision_;
+            note_change(*applied);
+        }
     }
 }
 

@@ -63,6 +63,9 @@ public:
     /// The timer decoder behind the pin's OC unit, if the pin has one and it is watched.
     [[nodiscard]] const TimerOutputDecoder* timer_of(int pin) const;
 
+    /// Increases whenever anything a pin's waveform depends on may have
+    /// changed (a register value, a buffered update applied): for caches.
+    [[nodiscard]] uint64_t revision() const { return revision_; }
     /// Register accesses that changed a watched pin's drive so far (a
     /// buffered OCR update counts at its TOP or BOTTOM).
     [[nodiscard]] uint64_t changes() const { return changes_; }
@@ -101,6 +104,7 @@ private:
     std::array<Hook, 3> timer_hook_{};
     Hook port_hook_{};
     uint64_t changes_ = 0;
+    uint64_t revision_ = 0;
     std::optional<Cycles> first_change_;
 };
 
