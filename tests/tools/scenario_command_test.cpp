@@ -181,6 +181,19 @@ steps:
     const auto reference = hil::ElfImage::read(firmware_elf());
     EXPECT_EQ(built.memory_use().flash_bytes(), reference.memory_use().flash_bytes());
     EXPECT_EQ(built.memory_use().ram_bytes(), reference.memory_use().ram_bytes());
+    // The same text under another name (a user's copy of an example) is another sketch, not a clash in the cache.
+    std::filesystem::create_directories(dir / "suite/other");
+    std::filesystem::copy_file(dir / "suite/copy/copy.ino", dir / "suite/other/other.ino");
+    const auto o = write(dir, "suite/other.yaml", R"(name: other
+timeout: 8s
+firmware: { sketch: other/other.ino }
+steps:
+  - write-serial: "1"
+  - wait-serial: "0.6m"
+)");
+    const auto second = run_command(env + sh_quote(cli_path().string()) + " scenario " + sh_quote(o.string()) +
+                                    " --out " + sh_quote((dir / "out3").string()));
+    EXPECT_EQ(second.exit_code, 0) << second.out << second.err;
     // Broken sketch: refused before anything runs, with the build log named.
     std::filesystem::create_directories(dir / "suite/broken");
     std::ofstream(dir / "suite/broken/broken.ino") << "void setup() { this is not C++ }\nvoid loop() {}\n";

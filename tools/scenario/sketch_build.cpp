@@ -48,10 +48,11 @@ fs::path build_sketch(const fs::path& ino, const fs::path& cache, const std::str
         throw std::runtime_error(fmt::format("sketch {}: Arduino needs it in a folder of the same name ({}/{}.ino)",
                                              ino.string(), stem, stem));
     }
-    // One entry per sketch content and board: the same .ino built for the Nano is another ELF.
+    // One entry per sketch content and board (the same .ino built for the Nano is another ELF) ...
     std::string board = fqbn;
     std::replace_if(board.begin(), board.end(), [](char c) { return c == ':' || c == '=' || c == ','; }, '_');
-    const fs::path entry = cache / (sha256_file_hex(ino) + "-" + board);
+    // ... and per name: the ELF is named after the sketch, and two folders may hold the same text.
+    const fs::path entry = cache / (sha256_file_hex(ino) + "-" + board + "-" + stem);
     fs::path elf = entry / (stem + ".elf");  // not const: returned by move
     if (fs::is_regular_file(elf)) return elf;
 

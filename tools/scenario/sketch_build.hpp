@@ -4,8 +4,8 @@
 // (cmake/ArduinoSketch.cmake: Debian's arduino-builder, the Uno, the same
 // preference), and caches the result by the sketch's content.
 //
-// The cache folder holds one sub-folder per SHA-256 of the .ino and board
-// (FQBN); a build goes
+// The cache folder holds one sub-folder per SHA-256 of the .ino, board
+// (FQBN) and sketch name; a build goes
 // to a temporary folder first and is renamed into place, so parallel workers
 // and interrupted builds never see half an ELF. arduino-builder runs without
 // a shell (posix_spawn); its output goes to build.log in the cache entry.
