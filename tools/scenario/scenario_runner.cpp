@@ -24,6 +24,7 @@
 #include "hil/loop_profiler.hpp"
 #include "hil/plant_coupler.hpp"
 #include "hil/robot_rig.hpp"
+#include "hil/uno_pins.hpp"
 #include "hil/run_failure.hpp"
 #include "hil/serial_line.hpp"
 #include "hil/stack_guard.hpp"
@@ -78,16 +79,6 @@ constexpr Cycles kNever = ~Cycles{0};
 double us_of(Cycles c) { return hil::cycles_to_s(c, chip::kClockHz) * 1e6; }
 
 /// The data-space PIN/DDR/PORT registers and bit of an Uno pin.
-struct PinRegs {
-    uint16_t pin, ddr, port;
-    int bit;
-};
-PinRegs uno_pin_regs(int pin) {
-    if (pin <= 7) return {reg::kPinD, static_cast<uint16_t>(reg::kPinD + 1), reg::kPortD, pin};
-    if (pin <= 13) return {reg::kPinB, reg::kDdrB, reg::kPortB, pin - 8};
-    return {reg::kPinC, static_cast<uint16_t>(reg::kPinC + 1), reg::kPortC, pin - 14};
-}
-
 hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
     const auto sym = elf.find(name);
     if (!sym) throw StepFailed{Verdict::kFail, fmt::format("the firmware has no symbol '{}'", name)};
@@ -372,10 +363,10 @@ private:
             pins.advance_to(core().cycle());
             if (pins.timer_driven(pin)) return pins.level_at(pin, core().cycle());
         }
-        const PinRegs r = uno_pin_regs(pin);
-        const auto bit = static_cast<unsigned>(r.bit);
-        const bool output = ((static_cast<unsigned>(core().data(r.ddr)) >> bit) & 1U) != 0;
-        return ((static_cast<unsigned>(core().data(output ? r.port : r.pin)) >> bit) & 1U) != 0;
+        const hil::UnoPin p = *hil::uno_pin(pin);  // the step's pin was checked when the scenario was loaded
+        const auto bit = static_cast<unsigned>(p.bit);
+        const bool output = ((static_cast<unsigned>(core().data(p.ddr_register)) >> bit) & 1U) != 0;
+        return ((static_cast<unsigned>(core().data(output ? p.port_register : p.pin_register)) >> bit) & 1U) != 0;
     }
     std::string run_step(const WaitPin& w) {
         const Cycles start = core().cycle();
