@@ -187,7 +187,7 @@ void AvrCore::apply_setup() {
     avr->sleep = &no_wall_clock_sleep;
     avr_extint_set_strict_lvl_trig(avr, 0, 0);
     avr_extint_set_strict_lvl_trig(avr, 1, 0);
-    avr->run_cycle_limit = config_.run_cycle_limit;
+    avr->run_cycle_limit = free_run_limit();
 }
 
 void AvrCore::reset() {
@@ -260,19 +260,22 @@ RunStop AvrCore::run_until(Cycles target) {
     TargetFlag flag;
     avr_cycle_timer_register(avr, target - avr->cycle, &on_target, &flag);
     if (!instruction_hooks_.empty()) {
-        const Cycles saved_limit = avr->run_cycle_limit;
         avr->run_cycle_limit = 1;  // one instruction per avr_run
         avr->run_cycle_count = 1;
+        stepping_ = true;
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
             for (const auto& h : instruction_hooks_) h.hook();
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
+            if (step_watch_ != nullptr) step_watch_(step_watch_context_);
         }
-        avr->run_cycle_limit = saved_limit;
+        stepping_ = false;
+        avr->run_cycle_limit = free_run_limit();
     } else {
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
+            if (step_watch_ != nullptr) step_watch_(step_watch_context_);
         }
     }
     avr_cycle_timer_cancel(avr, &on_target, &flag);
@@ -282,15 +285,29 @@ RunStop AvrCore::run_until(Cycles target) {
     return stop;
 }
 
+Cycles AvrCore::free_run_limit() const { return step_watch_ != nullptr ? 1 : config_.run_cycle_limit; }
+
+void AvrCore::set_step_watch(StepWatch watch, void* context) {
+    step_watch_ = watch;
+    step_watch_context_ = context;
+    avr_t* avr = avr_.get();
+    if (watch != nullptr) {
+        avr->run_cycle_limit = 1;
+        avr->run_cycle_count = 1;  // the batch in progress ends after this instruction
+    } else if (!stepping_) {
+        avr->run_cycle_limit = free_run_limit();
+    }
+}
+
 void AvrCore::stop_after(Cycles delay) {
     avr_cycle_timer_register(avr_.get(), delay == 0 ? 1 : delay, &on_stop_deadline, this);
 }
 
 RunStop AvrCore::run_until(Cycles target, const std::function<bool()>& condition) {
     avr_t* avr = avr_.get();
-    const Cycles saved_limit = avr->run_cycle_limit;
     avr->run_cycle_limit = 1;  // one instruction per avr_run
     avr->run_cycle_count = 1;
+    stepping_ = true;
     RunStop stop = RunStop::kReachedCycle;
     while (avr->cycle < target) {
         const int state = avr_run(avr);
@@ -299,15 +316,18 @@ RunStop AvrCore::run_until(Cycles target, const std::function<bool()>& condition
             break;
         }
         if (event_pending()) {
-            avr->run_cycle_limit = saved_limit;
+            stepping_ = false;
+            avr->run_cycle_limit = free_run_limit();
             return take_event();
         }
         if (condition()) {
             stop = RunStop::kCondition;
             break;
         }
+        if (step_watch_ != nullptr) step_watch_(step_watch_context_);
     }
-    avr->run_cycle_limit = saved_limit;
+    stepping_ = false;
+    avr->run_cycle_limit = free_run_limit();
     return stop;
 }
 

@@ -90,6 +90,16 @@ public:
     void remove_instruction_hook(const void* owner);
     bool has_instruction_hooks() const { return !instruction_hooks_.empty(); }
 
+    /// A function called before every instruction (PC at it, registers as it
+    /// will see them) while set; nullptr switches it off. Unlike instruction
+    /// hooks it may be switched on and off from an IRQ callback in the middle
+    /// of a run: while it is on, simavr runs one instruction per avr_run
+    /// (run_cycle_limit 1, which gives identical results), so a part can
+    /// step only short stretches (the race detector steps only ISRs). One
+    /// watch at a time; it must not throw.
+    using StepWatch = void (*)(void* context);
+    void set_step_watch(StepWatch watch, void* context);
+
     /// Asks the running run_until to return after the current instruction
     /// batch. Safe to call from IRQ and cycle-timer callbacks.
     void request_stop() { stop_requested_ = true; }
@@ -154,6 +164,10 @@ private:
         std::function<void()> hook;
     };
     std::vector<OwnedCallback> instruction_hooks_;
+    StepWatch step_watch_ = nullptr;
+    void* step_watch_context_ = nullptr;
+    /// run_until is stepping for instruction hooks or a condition (limit 1).
+    bool stepping_ = false;
     std::vector<OwnedCallback> reset_listeners_;
     uint64_t resets_ = 0;
     uint64_t watchdog_resets_ = 0;
@@ -165,6 +179,8 @@ private:
     /// Handles what event_pending() saw: kWatchdogReset or kSimavrError.
     RunStop take_event();
     void apply_setup();
+    /// run_cycle_limit outside run_until's stepping loops: 1 while a step watch is on.
+    Cycles free_run_limit() const;
 };
 
 }  // namespace ddmr::hil

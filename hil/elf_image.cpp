@@ -1,5 +1,6 @@
 #include "hil/elf_image.hpp"
 
+#include <cxxabi.h>
 #include <fcntl.h>
 #include <gelf.h>
 #include <libelf.h>
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -14,6 +16,14 @@
 #include "hil/atmega328p.hpp"
 
 namespace ddmr::hil {
+
+std::string demangle(const std::string& name) {
+    if (name.rfind("_Z", 0) != 0) return name;
+    int status = 0;
+    const std::unique_ptr<char, decltype(&std::free)> out(
+        abi::__cxa_demangle(name.c_str(), nullptr, nullptr, &status), &std::free);
+    return status == 0 && out ? std::string(out.get()) : name;
+}
 namespace {
 
 /// avr-gcc places data-space objects at 0x800000 in the ELF address space.

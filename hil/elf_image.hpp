@@ -17,6 +17,10 @@ namespace ddmr::hil {
 enum class ElfBinding : uint8_t { kLocal, kGlobal, kWeak };
 
 /// One entry of the ELF symbol table.
+/// The C++ name behind an Itanium-mangled symbol (avr-g++ uses that ABI), or
+/// the symbol itself (C names, libgcc's assembly).
+std::string demangle(const std::string& name);
+
 struct ElfSymbol {
     std::string name;       ///< raw (mangled) name
     uint32_t address = 0;   ///< flash byte address for functions; data-space address for

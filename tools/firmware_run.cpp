@@ -15,6 +15,7 @@
 #include "common/truth_csv.hpp"
 #include "exit_codes.hpp"
 #include "function_profile_output.hpp"
+#include "race_report.hpp"
 #include "hil/board.hpp"
 #include "hil/eeprom_log.hpp"
 #include "hil/avr_core.hpp"
@@ -23,7 +24,7 @@
 #include "hil/gdb_server.hpp"
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_tracer.hpp"
-#include "hil/torn_read_detector.hpp"
+#include "hil/race_detector.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/run_failure.hpp"
 #include "hil/stack_guard.hpp"
@@ -410,10 +411,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (reference) tracer.emplace(rig.variables(), kLoopMarker, traced_variables());
     hil::IsrMonitor isr_monitor(core, elf);
     const hil::StackGuard stack_guard(core, elf);
-    // Torn reads of Count1/Count2 (the reference sketch's ISR-written globals);
-    // another firmware without them is simply not watched.
-    std::optional<hil::TornReadDetector> torn_reads;
-    if (elf.find("Count1") && elf.find("Count2")) torn_reads.emplace(core, elf);
+    // Races on every ISR-shared variable (torn reads and writes, stale reads).
+    hil::RaceDetector races(core, elf);
     std::optional<hil::LoopProfiler> profiler;
     // The function profile's control-loop scope uses the loop profiler's
     // iterations; built before the first instruction, it sees the whole stack.
@@ -703,23 +702,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     const hil::IsrSummary isr_summary = isr_monitor.summary();
     json isr = isr_json(isr_summary);
-    json torn = nullptr;
-    if (torn_reads) {
-        torn = json::object();
-        for (std::size_t v = 0; v < 2; ++v) {
-            const auto& st = torn_reads->stats(v);
-            torn[v == 0 ? "Count1" : "Count2"] = {{"split_reads", st.split_reads}, {"torn", st.torn},
-                                                   {"visible", st.visible}};
-        }
-        json records = json::array();
-        for (const auto& r : torn_reads->records()) {
-            records.push_back({{"cycle", r.cycle}, {"variable", torn_reads->name(r)}, {"vector", r.vector},
-                               {"value_read", r.value_read}, {"true_value", r.value_after},
-                               {"visible", r.visible}});
-        }
-        torn["records"] = records;
-    }
-    isr["torn_reads"] = torn;
+    const RaceReport race = race_report(races, elf);
+    isr["races"] = race.json;
+    const json torn = torn_reads_summary(races);
     const hil::EepromLogTiming log_timing =
         hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), result.ready_cycle.value_or(0), core.clock_hz());
     // The EEPROM log layout is the reference sketch's: another firmware's bytes are not decoded.
@@ -797,7 +782,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                            : json(nullptr)},
         {"isr", {{"isr_share", static_cast<double>(isr_summary.isr_cycles) /
                                    static_cast<double>(std::max<Cycles>(1, isr_summary.observed_cycles()))},
-                 {"torn_reads", torn.is_null() ? json(nullptr) : json{{"Count1", torn["Count1"]}, {"Count2", torn["Count2"]}}},
+                 {"torn_reads", torn},
+                 {"races", {{"torn_observed", isr["races"]["torn_observed"]},
+                            {"torn_possible", isr["races"]["torn_possible"]},
+                            {"stale_reads", isr["races"]["stale_reads"]}}},
                  {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", reference ? report_json(result.report) : json(nullptr)},
@@ -817,7 +805,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         write_file_atomic(options.out_dir / "profile.txt", function_profile_txt);
     }
     write_file_atomic(options.out_dir / "isr.json", isr.dump(2) + "\n");
-    write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary));
+    write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary) + race.markdown);
     if (trace_csv) trace_csv->commit();
     if (vcd_file) vcd_file->commit();
     truth_csv.commit();

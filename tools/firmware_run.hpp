@@ -19,7 +19,8 @@
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (sample, t_s, x_m, y_m)
 //   summary.json    firmware identity, cycle counts, timing, exit reason, the
 //                   parsed firmware report, encoder counts and end poses
-//   isr.json, isr.md  per-vector interrupt timing and torn reads
+//   isr.json, isr.md  per-vector interrupt timing; races on ISR-shared variables
+//                   (torn reads and writes, stale reads: hil/race_detector.hpp)
 // With --trace:
 //   trace.csv       the chosen firmware globals per iteration or every N cycles
 // With --profile:

@@ -1,11 +1,9 @@
 // profile.json / profile.txt / the stdout table from a FunctionProfiler.
 #include "function_profile_output.hpp"
 
-#include <cxxabi.h>
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -15,15 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-/// The C++ name behind an Itanium-mangled symbol (avr-g++ uses that ABI), or
-/// the symbol itself (C functions, libgcc's assembly).
-std::string demangle(const std::string& name) {
-    if (name.rfind("_Z", 0) != 0) return name;
-    int status = 0;
-    const std::unique_ptr<char, decltype(&std::free)> out(
-        abi::__cxa_demangle(name.c_str(), nullptr, nullptr, &status), &std::free);
-    return status == 0 && out ? std::string(out.get()) : name;
-}
+using hil::demangle;
 
 struct ScopeView {
     const char* key;

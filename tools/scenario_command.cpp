@@ -59,6 +59,7 @@ sc::LoadOptions load_options(const ScenarioCli& cli) {
 sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
     sc::Scenario s = sc::load_scenario(file, load_options(cli));
     if (s.sketch) s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache(), hil::board_fqbn(s.board.model));
+    sc::check_firmware_names(s);
     return s;
 }
 

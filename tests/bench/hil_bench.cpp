@@ -8,7 +8,7 @@
 //   FullHilCase1          : RobotRig defaults: switched PWM, encoders,
 //                           datasheet EEPROM timing, ground truth sampled
 //   RunCase1              : `ddmr-hil run` (run_firmware): the rig plus the ISR
-//                           monitor, torn-read detector, loop tracer and every
+//                           monitor, race detector, loop tracer and every
 //                           artifact written; profiling, VCD and gdb off. Its
 //                           ratio to FullHilCase1 is what having those
 //                           features costs when they are off (issue 6)

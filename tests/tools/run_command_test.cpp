@@ -451,5 +451,42 @@ TEST(RunCommand, AnyFirmwareRefusesTheReferenceOptionsAndBadSends) {
     for (const char* d : {"a", "b", "c", "d"}) EXPECT_FALSE(fs::exists(dir / d)) << d;
 }
 
+TEST(RunCommand, AnyFirmwareGetsARaceReport) {
+    // race_fixture (tests/firmware/race_fixture.c): a torn read of `ticks`, a
+    // torn write of `setpoint`, a stale read of the non-volatile `flag`;
+    // the fixed build has none of them.
+    TempDir dir;
+    const auto run = [&](const char* variant) {
+        const auto out = dir / variant;
+        const auto r = run_command(cli() + " run -q --seconds 0.15 --firmware " +
+                                   sh_quote((test_firmware_dir() / (std::string("race_fixture_") + variant + ".elf")).string()) +
+                                   " --out " + sh_quote(out.string()));
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return json::parse(read_text(out / "isr.json"))["races"];
+    };
+    const json racy = run("racy");
+    ASSERT_EQ(racy["torn"].size(), 2u) << racy.dump(2);
+    std::map<std::string, json> torn;
+    for (const auto& t : racy["torn"]) torn[t["variable"]] = t;
+    EXPECT_EQ(torn["ticks"]["access"], "read");
+    EXPECT_EQ(torn["ticks"]["status"], "observed");
+    EXPECT_EQ(torn["ticks"]["function"], "main");
+    EXPECT_EQ(torn["ticks"]["size"], 4);
+    EXPECT_EQ(torn["ticks"]["split_by"], json::array({"TIMER0_OVF"}));
+    EXPECT_TRUE(torn["ticks"]["source"].is_null());  // built without -g
+    EXPECT_EQ(torn["setpoint"]["access"], "write");
+    EXPECT_EQ(torn["setpoint"]["status"], "observed");
+    ASSERT_EQ(racy["stale"].size(), 1u);
+    EXPECT_EQ(racy["stale"][0]["variable"], "flag");
+    EXPECT_GT(racy["stale"][0]["writes_missed"].get<uint64_t>(), 100u);
+    const json fixed = run("fixed");
+    EXPECT_EQ(fixed["torn"].size(), 0u) << fixed.dump(2);
+    EXPECT_EQ(fixed["stale"].size(), 0u);
+    EXPECT_EQ(fixed["torn_observed"], 0);
+    const std::string md = read_text(dir / "racy" / "isr.md");
+    EXPECT_NE(md.find("| `ticks` | 4 | read | `main` |"), std::string::npos) << md;
+    EXPECT_NE(md.find("Declare the variable `volatile`"), std::string::npos) << md;
+}
+
 }  // namespace
 }  // namespace ddmr::test

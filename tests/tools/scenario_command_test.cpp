@@ -278,6 +278,35 @@ TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
     EXPECT_NE(dup.err.find("is used twice"), std::string::npos) << dup.err;
 }
 
+TEST(ScenarioCommand, ExpectNoTornReadsNamesTheTornVariables) {
+    // race_fixture (tests/firmware/race_fixture.c): `ticks` read and
+    // `setpoint` written without ATOMIC_BLOCK; the fixed build has neither.
+    TempDir dir;
+    const auto racy = " --firmware " + sh_quote((test_firmware_dir() / "race_fixture_racy.elf").string());
+    const auto fixed = " --firmware " + sh_quote((test_firmware_dir() / "race_fixture_fixed.elf").string());
+    const auto all = write(dir, "all.yaml", "name: all\ntimeout: 1s\nsteps:\n  - delay: 50ms\n  - expect-no-torn-reads\n");
+    const auto some = write(dir, "some.yaml",
+                            "name: some\ntimeout: 1s\nsteps:\n  - delay: 50ms\n  - expect-no-torn-reads: [ticks]\n");
+    auto r = scenario(sh_quote(all.string()) + racy + " --out " + sh_quote((dir / "a").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    std::string m = result_of(dir / "a/all")["steps"][1]["message"];
+    EXPECT_NE(m.find("read torn of ticks"), std::string::npos) << m;
+    EXPECT_NE(m.find("write torn of setpoint"), std::string::npos) << m;
+    EXPECT_NE(read_text(dir / "a/all/isr.md").find("### Stale reads"), std::string::npos);
+    r = scenario(sh_quote(some.string()) + racy + " --out " + sh_quote((dir / "b").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    m = result_of(dir / "b/some")["steps"][1]["message"].get<std::string>();
+    EXPECT_EQ(m.find("setpoint"), std::string::npos) << m;  // not asked for
+    r = scenario(sh_quote(all.string()) + fixed + " --out " + sh_quote((dir / "c").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    // A name that is not a multi-byte variable is refused before the run.
+    const auto bad = write(dir, "bad.yaml", "name: bad\ntimeout: 1s\nsteps:\n  - expect-no-torn-reads: [flag]\n");
+    r = scenario(sh_quote(bad.string()) + racy + " --out " + sh_quote((dir / "d").string()));
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE((r.out + r.err).find("bad.yaml:4: expect-no-torn-reads: 'flag' has 1 byte(s)"), std::string::npos)
+        << r.out << r.err;
+}
+
 TEST(ScenarioCommand, SameScenarioSameBytesAndParallelSameVerdicts) {
     TempDir dir;
     const std::string body = "timeout: 8s\nseed: 3\nsteps:\n  - write-serial: \"1\"\n  - inject: { encoder: 2, drop: 0.2 }\n"

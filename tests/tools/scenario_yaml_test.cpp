@@ -250,6 +250,21 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
     }
 }
 
+TEST(ScenarioYaml, BareStepsAndTornReadVariableLists) {
+    const Scenario s =
+        parse("timeout: 1s\nsteps:\n  - reset\n  - expect-no-torn-reads\n  - expect-no-torn-reads: [Count1, Count2]\n");
+    ASSERT_EQ(s.steps.size(), 3U);
+    EXPECT_TRUE(std::holds_alternative<Reset>(s.steps[0].action));
+    EXPECT_EQ(s.steps[1].line, 4);
+    EXPECT_TRUE(std::get<ExpectNoTornReads>(s.steps[1].action).variables.empty());
+    EXPECT_EQ(std::get<ExpectNoTornReads>(s.steps[2].action).variables, (std::vector<std::string>{"Count1", "Count2"}));
+    EXPECT_NE(refusal("timeout: 1s\nsteps:\n  - delay\n").find("case.yaml:3: key 'steps[]': each step is a mapping"),
+              std::string::npos);
+    EXPECT_NE(refusal("timeout: 1s\nsteps:\n  - expect-no-torn-reads: []\n").find("a list of variable names"),
+              std::string::npos);
+    EXPECT_NE(refusal("timeout: 1s\nsteps:\n  - expect-no-torn-reads: 3\n").find("takes no value"), std::string::npos);
+}
+
 TEST(ScenarioYaml, TheCommandLineFirmwareWins) {
     LoadOptions o = options();
     o.firmware_override = "/some/where/else.elf";

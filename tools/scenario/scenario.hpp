@@ -109,9 +109,13 @@ struct ExpectIsr {  ///< `expect-isr: {vector: INT0, max_latency_cycles: 200}`
     std::optional<Cycles> max_latency_cycles, max_duration_cycles;
     std::optional<uint64_t> min_count;
 };
-/// No read of Count1/Count2 split by its ISR returned a value the variable
-/// never held (a split read of an unchanged byte pattern is harmless).
-struct ExpectNoTornReads {};
+/// No access of the main program to an ISR-shared variable (the named ones,
+/// or every one) was torn with a value observed that should never be seen
+/// (hil/race_detector.hpp): `- expect-no-torn-reads` or
+/// `- expect-no-torn-reads: [Count1, Count2]`.
+struct ExpectNoTornReads {
+    std::vector<std::string> variables;  ///< empty: every variable
+};
 
 // --- plant signals (the robot's ground truth now) ---------------------------
 /// The names a scenario can check: every truth.csv column but t_s (x_m, ...,

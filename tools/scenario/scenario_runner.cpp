@@ -28,7 +28,8 @@
 #include "hil/run_failure.hpp"
 #include "hil/serial_line.hpp"
 #include "hil/stack_guard.hpp"
-#include "hil/torn_read_detector.hpp"
+#include "hil/race_detector.hpp"
+#include "race_report.hpp"
 #include "hil/vcd_recorder.hpp"
 #include "hil/vcd_writer.hpp"
 #include "hostsim/host_sim.hpp"
@@ -106,7 +107,7 @@ public:
         if (preload_) rig_->eeprom().preload(*preload_);
         isr_.emplace(rig_->core(), elf_);
         stack_guard_.emplace(rig_->core(), elf_);
-        if (elf_.find("Count1") && elf_.find("Count2")) torn_.emplace(rig_->core(), elf_);
+        races_.emplace(rig_->core(), elf_);
         if (s.needs_loop_profile()) {
             const auto mark = elf_.require("delay");
             profiler_.emplace(rig_->core(), mark);
@@ -569,21 +570,32 @@ private:
         if (e.min_count && *e.min_count == 0) return fmt::format("{} never ran", e.vector);
         throw StepFailed{Verdict::kFail, fmt::format("interrupt {} never ran", e.vector)};
     }
-    std::string run_step(const ExpectNoTornReads&) {
-        if (!torn_) throw StepFailed{Verdict::kFail, "the firmware has no Count1/Count2 to watch"};
+    std::string run_step(const ExpectNoTornReads& e) {
         std::string note;
-        for (std::size_t v = 0; v < 2; ++v) {
-            const auto& st = torn_->stats(v);
-            const char* name = v == 0 ? "Count1" : "Count2";
-            if (st.visible > 0) {
-                throw StepFailed{Verdict::kFail, fmt::format("{} torn read(s) of {} returned a value it never held "
-                                                             "({} reads split by its ISR)",
-                                                             st.visible, name, st.split_reads)};
+        uint64_t observed = 0;
+        for (const hil::SplitAccess& a : races_->splits()) {
+            if (!races_->is_race(a)) continue;
+            const std::string& name = races_->objects()[a.object].name;
+            if (!e.variables.empty() && std::find(e.variables.begin(), e.variables.end(), name) == e.variables.end()) {
+                continue;
             }
-            note += fmt::format("{}{}: {} reads split by its ISR, {} changed it mid-read, none returned a value it never held",
-                                note.empty() ? "" : "; ", name, st.split_reads, st.torn);
+            if (a.observed == 0) continue;
+            observed += a.observed;
+            note += fmt::format("{}{} {} of {} at 0x{:04x} ({}x)", note.empty() ? "" : "; ",
+                                a.kind == hil::AccessKind::kRead ? "read" : "write", "torn", name, a.pc, a.observed);
         }
-        return note;
+        if (observed > 0) throw StepFailed{Verdict::kFail, "torn values observed: " + note + " (isr.md lists them)"};
+        const nlohmann::json counts = torn_reads_summary(*races_);
+        std::string seen;
+        for (const auto& [name, c] : counts.items()) {
+            if (!e.variables.empty() && std::find(e.variables.begin(), e.variables.end(), name) == e.variables.end()) {
+                continue;
+            }
+            seen += fmt::format("{}{}: {} reads split by a writing ISR, {} changed mid-read", seen.empty() ? "" : "; ",
+                                name, c["split_reads"].get<uint64_t>(), c["torn"].get<uint64_t>());
+        }
+        return fmt::format("no torn value observed ({} interrupt entries checked){}{}",
+                           races_->stats().entries_checked, seen.empty() ? "" : ": ", seen);
     }
     std::string run_step(const ExpectEncoders& e) {
         uint64_t lost = 0;
@@ -707,7 +719,8 @@ private:
         uart_txt_->commit();
         write_file_atomic(out_dir_ / "eeprom.bin",
                           std::string_view(reinterpret_cast<const char*>(image.data()), image.size()));
-        write_file_atomic(out_dir_ / "isr.md", hil::to_markdown(isr_->summary()));
+        const RaceReport race = race_report(*races_, elf_);
+        write_file_atomic(out_dir_ / "isr.md", hil::to_markdown(isr_->summary()) + race.markdown);
         write_file_atomic(out_dir_ / "eeprom_log.csv", hil::eeprom_log_csv(eeprom_log()));
         // wall time is not deterministic: it goes to stdout, not into result.json
         if (r.verdict != Verdict::kPass) {
@@ -725,7 +738,7 @@ private:
     std::optional<hil::RobotRig> rig_;
     std::optional<hil::IsrMonitor> isr_;
     std::optional<hil::StackGuard> stack_guard_;
-    std::optional<hil::TornReadDetector> torn_;
+    std::optional<hil::RaceDetector> races_;
     std::optional<hil::LoopProfiler> profiler_;
     std::string vcd_text_;
     std::optional<hil::VcdWriter> vcd_writer_;
@@ -748,6 +761,29 @@ private:
 };
 
 }  // namespace
+
+void check_firmware_names(const Scenario& s) {
+    const auto elf = hil::ElfImage::read(s.firmware);
+    const hil::DataObjects objects(elf);
+    // Variables named by expect-no-torn-reads must be multi-byte variables in SRAM.
+    for (const Step& step : s.steps) {
+        const auto* e = std::get_if<ExpectNoTornReads>(&step.action);
+        if (e == nullptr) continue;
+        for (const std::string& name : e->variables) {
+            const auto o = objects.find(name);
+            if (!o) {
+                throw std::invalid_argument(fmt::format("{}:{}: expect-no-torn-reads: the firmware has no variable '{}' in SRAM",
+                                                        s.file.string(), step.line, name));
+            }
+            const uint16_t size = objects[*o].size;
+            if (size < 2 || size > hil::RaceDetector::kMaxVariableBytes) {
+                throw std::invalid_argument(fmt::format("{}:{}: expect-no-torn-reads: '{}' has {} byte(s); a torn access needs 2..{}",
+                                                        s.file.string(), step.line, name, size,
+                                                        hil::RaceDetector::kMaxVariableBytes));
+            }
+        }
+    }
+}
 
 ScenarioResult run_scenario(const Scenario& s, const fs::path& out_dir, bool progress) {
     Session session(s, out_dir, progress);

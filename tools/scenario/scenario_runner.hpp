@@ -63,6 +63,11 @@ struct ScenarioResult {
     uint64_t framing_errors = 0;
 };
 
+/// Checks what a scenario names in its firmware and can be checked before a
+/// run (the variables of expect-no-torn-reads: 2..8-byte variables in SRAM).
+/// Throws std::invalid_argument "FILE:LINE: ..." naming the first problem.
+void check_firmware_names(const Scenario& s);
+
 /// Runs `s`, writing its artifacts to `out_dir` (created). Throws
 /// std::runtime_error / std::invalid_argument for input errors before
 /// anything is written.

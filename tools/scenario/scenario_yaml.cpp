@@ -431,8 +431,18 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
         return e;
     }
     if (kind == "expect-no-torn-reads") {
-        if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) c.fail("takes no value");
-        return ExpectNoTornReads{};
+        ExpectNoTornReads e;
+        if (c.node().IsSequence()) {
+            for (std::size_t i = 0; i < c.node().size(); ++i) {
+                const YAML::Node v = c.node()[i];
+                if (!v.IsScalar() || v.Scalar().empty()) c.fail("expected a list of variable names");
+                e.variables.push_back(v.Scalar());
+            }
+            if (e.variables.empty()) c.fail("expected a list of variable names (or no value: every variable)");
+        } else if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) {
+            c.fail("takes no value (every variable) or a list of variable names");
+        }
+        return e;
     }
     if (kind == "expect-encoders") {
         c.keys({"max_lost"}, {"max_lost"});
@@ -630,10 +640,20 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     if (!root["steps"].IsSequence() || root["steps"].size() == 0) steps.fail("expected a non-empty list of steps");
     for (const auto& item : root["steps"]) {
         const Ctx sc(file, item, "steps[]");
-        if (!item.IsMap() || item.size() != 1) sc.fail("each step is a mapping with one key, e.g. - delay: 500ms");
-        const std::string kind = item.begin()->first.Scalar();
         Step st;
         st.line = item.Mark().line + 1;
+        // A step that takes no value may be written bare: `- reset`, `- expect-no-torn-reads`.
+        if (item.IsScalar() && (item.Scalar() == "reset" || item.Scalar() == "expect-no-torn-reads")) {
+            st.kind = item.Scalar();
+            st.text = item.Scalar();
+            st.action = parse_step(st.kind, Ctx(file, YAML::Node(YAML::NodeType::Null), st.kind));
+            s.steps.push_back(std::move(st));
+            continue;
+        }
+        if (!item.IsMap() || item.size() != 1) {
+            sc.fail("each step is a mapping with one key, e.g. - delay: 500ms (or a bare - reset / - expect-no-torn-reads)");
+        }
+        const std::string kind = item.begin()->first.Scalar();
         st.kind = kind;
         st.text = step_text(item);
         st.action = parse_step(kind, Ctx(file, item.begin()->second, kind));
