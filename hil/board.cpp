@@ -1,4 +1,5 @@
 #include "hil/board.hpp"
+#include "hil/yaml_reader.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -52,12 +53,8 @@ constexpr std::array<DriverRole, kDriverRoleCount> kAllRoles = {DriverRole::pwm,
                                                                DriverRole::in1, DriverRole::in2, DriverRole::stby,
                                                                DriverRole::sleep};
 
-std::string at(const std::string& source, int line) {
-    return line > 0 ? fmt::format("{}:{}", source, line) : source;
-}
-
 [[noreturn]] void fail(const std::string& source, int line, const std::string& key, const std::string& what) {
-    throw std::invalid_argument(fmt::format("{}: key '{}': {}", at(source, line), key, what));
+    throw std::invalid_argument(fmt::format("{}: key '{}': {}", file_line(source, line), key, what));
 }
 
 std::string motor_key(std::size_t m, DriverRole r) {
@@ -183,27 +180,7 @@ std::vector<int> wired_pins(const BoardWiring& board) {
 
 namespace {
 
-struct Reader {
-    std::string source;
-
-    int line(const YAML::Node& n) const { return n.Mark().is_null() ? 0 : n.Mark().line + 1; }
-    [[noreturn]] void fail(const YAML::Node& n, const std::string& key, const std::string& what) const {
-        throw std::runtime_error(fmt::format("{}: key '{}': {}", at(source, line(n)), key, what));
-    }
-    const YAML::Node& mapping(const YAML::Node& n, const std::string& key) const {
-        if (!n.IsMap()) fail(n, key, "expected a mapping");
-        return n;
-    }
-    void only_keys(const YAML::Node& n, const std::string& key, const std::vector<std::string>& allowed) const {
-        for (const auto& kv : n) {
-            const std::string k = kv.first.Scalar();
-            if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
-                std::string list;
-                for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
-                fail(kv.first, key.empty() ? k : fmt::format("{}.{}", key, k), fmt::format("unknown key (expected {})", list));
-            }
-        }
-    }
+struct Reader : YamlReader {
     int pin(const YAML::Node& n, const std::string& key) const {
         if (!n.IsScalar()) fail(n, key, "expected a pin: 0..13 or A0..A5");
         const auto p = parse_uno_pin_name(n.Scalar());
@@ -214,15 +191,6 @@ struct Reader {
         }
         return *p;
     }
-    bool boolean(const YAML::Node& n, const std::string& key) const {
-        if (n.IsScalar()) {
-            const std::string& s = n.Scalar();
-            if (s == "true") return true;
-            if (s == "false") return false;
-        }
-        fail(n, key, "expected true or false");
-    }
-
     MotorWiring motor(const YAML::Node& n, const std::string& key) const {
         mapping(n, key);
         if (!n["driver"]) fail(n, key + ".driver", "missing (dir-pwm, l298n, tb6612 or drv8833)");
@@ -300,15 +268,8 @@ struct Reader {
 
 BoardWiring load_board_file(const std::filesystem::path& path) {
     const std::string source = path.string();
-    YAML::Node root;
-    try {
-        root = YAML::LoadFile(source);
-    } catch (const YAML::BadFile&) {
-        throw std::runtime_error(source + ": cannot read the board file");
-    } catch (const YAML::ParserException& e) {
-        throw std::runtime_error(fmt::format("{}:{}: malformed YAML: {}", source, e.mark.line + 1, e.msg));
-    }
-    const Reader r{source};
+    const YAML::Node root = YamlReader::load(path, "the board file");
+    const Reader r{{source}};
     if (!root.IsMap()) r.fail(root, "board", "a board file is a mapping with the keys board and wheels");
     r.only_keys(root, "", {"board", "wheels"});
     BoardWiring b;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <limits>
@@ -27,12 +28,23 @@ int unwrap_counts(uint8_t byte, int previous_counts) {
     return previous_counts + d;
 }
 
+int EepromLogLayout::max_samples(int eeprom_bytes) const {
+    if (stride <= 0) return 0;
+    const int lo = std::min(x_address, y_address);
+    const int hi = std::max(x_address, y_address);
+    // The lower series must stay below the upper one, the upper below the end.
+    const int below_hi = hi > lo ? (hi - lo + stride - 1) / stride : 0;
+    const int below_end = (eeprom_bytes - hi + stride - 1) / stride;
+    return hi > lo ? std::min(below_hi, below_end) : 0;
+}
+
 std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sample_count,
-                                               const std::vector<double>& sample_times_s) {
-    if (sample_count < 0 || sample_count > eeprom_log::kMaxSamples) {
+                                               const std::vector<double>& sample_times_s,
+                                               const EepromLogLayout& layout) {
+    if (sample_count < 0 || sample_count > layout.max_samples()) {
         throw std::invalid_argument(fmt::format(
-            "EEPROM log: sample count {} outside [0, {}] (x bytes must stay below address {})",
-            sample_count, eeprom_log::kMaxSamples, eeprom_log::kYOffset));
+            "EEPROM log: sample count {} outside [0, {}] (x bytes from address {}, y bytes from {}, stride {})",
+            sample_count, layout.max_samples(), layout.x_address, layout.y_address, layout.stride));
     }
     const auto n = static_cast<std::size_t>(sample_count);
     if (!sample_times_s.empty() && sample_times_s.size() != n) {
@@ -42,22 +54,24 @@ std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sam
     std::vector<EepromLogSample> out;
     out.reserve(n);
     for (int k = 0; k < sample_count; ++k) {
-        const auto x_addr = static_cast<std::size_t>(k) * eeprom_log::kAddressStride;
-        const auto y_addr = x_addr + eeprom_log::kYOffset;
+        const int x_offset = layout.x_address + k * layout.stride;
+        const int y_offset = layout.y_address + k * layout.stride;
+        const auto x_addr = static_cast<std::size_t>(x_offset);
+        const auto y_addr = static_cast<std::size_t>(y_offset);
         EepromLogSample s;
         s.sample = k;
         s.x_byte = image[x_addr];
         s.y_byte = image[y_addr];
-        if (k == 0) {
+        if (k == 0 || !layout.unwrap) {
             s.x_counts = signed_counts(s.x_byte);
             s.y_counts = signed_counts(s.y_byte);
         } else {
             s.x_counts = unwrap_counts(s.x_byte, out.back().x_counts);
             s.y_counts = unwrap_counts(s.y_byte, out.back().y_counts);
         }
-        s.x_m = s.x_counts / eeprom_log::kCountsPerMetre;
-        s.y_m = s.y_counts / eeprom_log::kCountsPerMetre;
-        s.t_s = sample_times_s.empty() ? (k + 1) * eeprom_log::kSamplePeriod_s
+        s.x_m = s.x_counts / layout.counts_per_metre;
+        s.y_m = s.y_counts / layout.counts_per_metre;
+        s.t_s = sample_times_s.empty() ? (k + 1) * layout.sample_period_s
                                        : sample_times_s[static_cast<std::size_t>(k)];
         out.push_back(s);
     }
@@ -65,15 +79,16 @@ std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sam
 }
 
 EepromLogTiming eeprom_log_timing(const std::vector<EepromWrite>& writes, Cycles origin_cycle,
-                                  uint32_t clock_hz) {
+                                  uint32_t clock_hz, const EepromLogLayout& layout) {
+    const int max = layout.max_samples();
     constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
     EepromLogTiming timing;
     for (const auto& w : writes) {
-        if (w.cycle < origin_cycle || w.address >= eeprom_log::kYOffset ||
-            w.address % eeprom_log::kAddressStride != 0) {
+        const int offset = static_cast<int>(w.address) - layout.x_address;
+        if (w.cycle < origin_cycle || offset < 0 || offset % layout.stride != 0 || offset / layout.stride >= max) {
             continue;
         }
-        const auto k = static_cast<std::size_t>(w.address / eeprom_log::kAddressStride);
+        const auto k = static_cast<std::size_t>(offset / layout.stride);
         if (timing.times_s.size() <= k) timing.times_s.resize(k + 1, kUnset);
         timing.times_s[k] = cycles_to_s(w.cycle - origin_cycle, clock_hz);
     }
@@ -81,7 +96,7 @@ EepromLogTiming eeprom_log_timing(const std::vector<EepromWrite>& writes, Cycles
         if (std::isnan(timing.times_s[k])) {
             throw std::invalid_argument(fmt::format(
                 "EEPROM log: sample {} (address {}) was never written, but sample {} was", k,
-                k * eeprom_log::kAddressStride, timing.times_s.size() - 1));
+                layout.x_address + static_cast<int>(k) * layout.stride, timing.times_s.size() - 1));
         }
     }
     timing.sample_count = static_cast<int>(timing.times_s.size());

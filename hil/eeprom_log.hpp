@@ -42,6 +42,23 @@ inline constexpr double kCountsPerMetre = 250.0;               ///< int(E * 250.
 inline constexpr double kSamplePeriod_s = 0.1;  ///< 10 iterations of dt = 0.01 s
 }  // namespace eeprom_log
 
+/// Where and how a sketch logs (x, y) samples in the EEPROM: sample k's x
+/// byte at x_address + k * stride, its y byte at y_address + k * stride,
+/// each the low 8 bits of int(value * counts_per_metre), unwrapped as above
+/// (sample 0 signed, then the nearest value to the previous sample) or, with
+/// unwrap false, read as a signed byte each. A sketch contract gives it
+/// (hil/sketch_contract.hpp); the default is the reference sketch's.
+struct EepromLogLayout {
+    int x_address = 0;
+    int y_address = eeprom_log::kYOffset;
+    int stride = eeprom_log::kAddressStride;
+    double counts_per_metre = eeprom_log::kCountsPerMetre;
+    bool unwrap = true;
+    double sample_period_s = eeprom_log::kSamplePeriod_s;  ///< nominal time between samples [s]
+    /// Samples that fit: the x bytes stay below the y bytes (or the EEPROM's end).
+    int max_samples(int eeprom_bytes = static_cast<int>(atmega328p::kEepromBytes)) const;
+};
+
 struct EepromLogSample {
     int sample = 0;        ///< k, from 0
     double t_s = 0.0;      ///< [s] since the case started (see the header comment)
@@ -59,7 +76,8 @@ struct EepromLogSample {
 /// per sample. Throws std::invalid_argument naming the value if sample_count
 /// is outside [0, 250] or the times do not match it.
 std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sample_count,
-                                               const std::vector<double>& sample_times_s = {});
+                                               const std::vector<double>& sample_times_s = {},
+                                               const EepromLogLayout& layout = {});
 
 /// The int value b + 256 m closest to `previous_counts` (a tie takes the
 /// lower). Exposed for tests.
@@ -76,7 +94,7 @@ struct EepromLogTiming {
 /// 2k, timed by its latest write. Throws std::invalid_argument naming the
 /// sample if some sample below the highest one was never written.
 EepromLogTiming eeprom_log_timing(const std::vector<EepromWrite>& writes, Cycles origin_cycle,
-                                  uint32_t clock_hz = atmega328p::kClockHz);
+                                  uint32_t clock_hz = atmega328p::kClockHz, const EepromLogLayout& layout = {});
 
 /// CSV with header "sample,t_s,x_m,y_m" and one row per sample, fixed
 /// precision (6 decimals), locale-independent: the same samples give the same

@@ -27,6 +27,7 @@
 #include "hil/race_detector.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/run_failure.hpp"
+#include "hil/sketch_contract.hpp"
 #include "hil/stack_guard.hpp"
 #include "hil/vcd_recorder.hpp"
 
@@ -42,21 +43,6 @@ using nlohmann::json;
 
 /// How often progress is reported [simulated s].
 constexpr double kProgressPeriodS = 1.0;
-
-/// The reference sketch's globals in firmware.csv (those LTO keeps; `v` and
-/// `w` live only in registers). Vdc1/Vdc2 are int (16-bit on AVR).
-const std::vector<hil::TracedVariable>& traced_variables() {
-    using hil::VarType;
-    static const std::vector<hil::TracedVariable> vars = {
-        {"Ex", VarType::kFloat},    {"Ey", VarType::kFloat},    {"Theta", VarType::kFloat},
-        {"Vel", VarType::kFloat},   {"Omega", VarType::kFloat}, {"Vdc1", VarType::kInt16},
-        {"Vdc2", VarType::kInt16},  {"t", VarType::kFloat},     {"errx", VarType::kFloat},
-        {"erry", VarType::kFloat},  {"errxr", VarType::kFloat},
-    };
-    return vars;
-}
-/// The sketch advances `t` by dt just before each iteration's delay(9).
-const hil::TracedVariable kLoopMarker{"t", hil::VarType::kFloat};
 
 json number_or_null(const std::optional<double>& v) {
     if (!v || !std::isfinite(*v)) return nullptr;
@@ -213,13 +199,26 @@ uint64_t on_wall_check(struct avr_t* /*avr*/, uint64_t when, void* param) {
     return when + g->period;
 }
 
-/// Whether the firmware defines what the reference sketch's protocol reads:
-/// the ready function and every traced global.
-bool speaks_reference_protocol(const hil::ElfImage& elf, const std::string& ready_symbol) {
-    if (!elf.find(ready_symbol)) return false;
-    return std::all_of(traced_variables().begin(), traced_variables().end(),
-                       [&](const hil::TracedVariable& v) { return elf.find(v.name).has_value(); });
-}
+/// Sees a text go by in a byte stream (a contract's start, pose and
+/// completion texts); an empty text is never seen.
+class TextWatch {
+public:
+    explicit TextWatch(std::string text) : text_(std::move(text)) {}
+    /// Feeds one byte; true the first time the text is complete.
+    bool feed(char c) {
+        if (text_.empty() || seen_) return false;
+        window_.push_back(c);
+        if (window_.size() > text_.size()) window_.erase(window_.begin());
+        seen_ = window_ == text_;
+        return seen_;
+    }
+    bool seen() const { return seen_; }
+
+private:
+    std::string text_;
+    std::string window_;
+    bool seen_ = false;
+};
 
 /// The loop mark of a firmware without the reference protocol: Arduino's
 /// loop() (one call per iteration), or delay() where LTO inlined loop() into main.
@@ -341,10 +340,22 @@ FirmwareRunOptions::Send parse_send(const std::string& spec, uint32_t clock_hz) 
 
 FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     // --- Validate everything before the output folder is touched. ---
-    if (options.test_case != 1 && options.test_case != 2) {
-        throw std::invalid_argument(fmt::format("--case {}: the reference sketch knows cases 1 and 2",
-                                                options.test_case));
+    std::optional<hil::SketchContract> contract;
+    if (options.contract) contract = hil::load_sketch_contract(*options.contract);
+    if (!contract && options.reference_protocol_required) {
+        throw std::invalid_argument(fmt::format(
+            "--case / --ready-symbol need a sketch contract (run --contract FILE, docs/contracts.md): {} has none",
+            options.firmware.string()));
     }
+    const bool has_start = contract && contract->start;
+    if (options.case_given && !(has_start && !contract->start->cases.empty())) {
+        throw std::invalid_argument(fmt::format("--case {}: the sketch contract {} takes no case", options.test_case,
+                                                contract ? contract->source : std::string("(none)")));
+    }
+    const int test_case = has_start && !contract->start->cases.empty()
+                              ? (options.case_given ? options.test_case : contract->start->default_case)
+                              : 0;
+    const std::string start_text = has_start ? contract->start_text(test_case) : std::string();
     if (!(options.max_wall_seconds > 0.0) || !std::isfinite(options.max_wall_seconds)) {
         throw std::invalid_argument(fmt::format("--wall-timeout {}: must be a positive number of seconds",
                                                 options.max_wall_seconds));
@@ -364,25 +375,47 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const hil::ElfImage elf = hil::ElfImage::read(options.firmware);
     elf.require_atmega328p();
     hil::AvrCore::check_loadable(elf);
-    // The reference sketch's protocol when its ELF speaks it (or --case /
-    // --ready-symbol ask for it); otherwise a plain time-limited run.
-    const bool reference =
-        options.reference_protocol_required || speaks_reference_protocol(elf, options.ready_symbol);
+    // What the contract names must be in the ELF (checked before anything is written).
     std::optional<hil::ElfSymbol> ready;
-    if (reference) {
-        ready = elf.require(options.ready_symbol);
-        if (!ready->is_function) {
-            throw std::runtime_error(fmt::format("firmware {}: symbol '{}' is not a function",
-                                                 options.firmware.string(), options.ready_symbol));
+    std::string ready_symbol;
+    if (has_start && (contract->start->after_return || options.ready_symbol_given)) {
+        ready_symbol = options.ready_symbol_given ? options.ready_symbol : *contract->start->after_return;
+        ready = elf.find(ready_symbol);
+        if (!ready || !ready->is_function) {
+            throw std::runtime_error(fmt::format("firmware {}: has no function '{}' ({})", options.firmware.string(),
+                                                 ready_symbol,
+                                                 options.ready_symbol_given ? "--ready-symbol"
+                                                                            : "the contract's start.after-return"));
         }
     }
+    std::vector<hil::TracedVariable> traced;
+    std::optional<hil::TracedVariable> loop_marker;
+    if (contract && contract->loop.marker) {
+        loop_marker = parse_trace_spec(*contract->loop.marker, elf);
+        for (const auto& spec : contract->trace) traced.push_back(parse_trace_spec(spec, elf));
+        if (std::none_of(traced.begin(), traced.end(), [&](const auto& v) { return v.name == loop_marker->name; })) {
+            traced.push_back(*loop_marker);
+        }
+    }
+    if (contract && contract->pose) {
+        for (const std::string& name : {contract->pose->x, contract->pose->y, contract->pose->theta}) {
+            const auto sym = elf.find(name);
+            if (!sym || !sym->is_object || sym->size != 4) {
+                throw std::runtime_error(fmt::format("firmware {}: has no 4-byte float global '{}' (the contract {}'s pose)",
+                                                     options.firmware.string(), name, contract->source));
+            }
+        }
+    }
+    const bool reports = contract && contract->report == hil::ReportFormat::kDdmrTracking;
+    const bool completes = contract && contract->complete;
     std::optional<hil::ElfSymbol> loop_mark;
     if (options.profile_top == 0) {
         throw std::invalid_argument("--top 0: give the number of functions to print, >= 1");
     }
     const std::string loop_mark_name =
-        reference || options.loop_mark_given || !options.profile ? options.loop_mark
-                                                                  : default_loop_mark(elf, options.firmware.string());
+        options.loop_mark_given || !options.profile ? options.loop_mark
+        : contract && contract->loop.function       ? *contract->loop.function
+                                                    : default_loop_mark(elf, options.firmware.string());
     if (options.profile) {
         loop_mark = elf.require(loop_mark_name);
         if (!loop_mark->is_function || loop_mark->size == 0) {
@@ -404,11 +437,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     hil::UartLink& uart = rig.uart();
     core.log().set_echo(options.echo_simavr_log ? stderr : nullptr);
     if (preload) rig.eeprom().preload(*preload);
-    // The reference sketch's globals traced per iteration (firmware.csv): a
-    // firmware required to speak its protocol without them is refused here,
-    // before anything is written.
+    // The contract's globals traced per iteration (firmware.csv), validated
+    // here, before anything is written.
     std::optional<hil::LoopTracer> tracer;
-    if (reference) tracer.emplace(rig.variables(), kLoopMarker, traced_variables());
+    if (loop_marker) tracer.emplace(rig.variables(), *loop_marker, traced);
     hil::IsrMonitor isr_monitor(core, elf);
     const hil::StackGuard stack_guard(core, elf);
     // Races on every ISR-shared variable (torn reads and writes, stale reads).
@@ -427,8 +459,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     for (const auto& spec : options.trace) trace_vars.push_back(parse_trace_spec(spec, elf));
     std::optional<hil::LoopTracer> trace_tracer;
     std::vector<hil::Variable> trace_handles;
+    if (!trace_vars.empty() && options.trace_every_cycles == 0 && !loop_marker) {
+        throw std::invalid_argument("--trace without --trace-every samples once per loop iteration, which needs "
+                                    "the sketch contract's loop.marker: give --trace-every N (cycles)");
+    }
     if (!trace_vars.empty()) {
-        trace_tracer.emplace(rig.variables(), kLoopMarker, trace_vars);  // validates every name and size
+        // validates every name and size (the marker only matters per iteration)
+        trace_tracer.emplace(rig.variables(), loop_marker.value_or(trace_vars.front()), trace_vars);
         for (const auto& v : trace_vars) trace_handles.push_back(rig.variables().lookup(v.name, v.type));
     }
     // The gdb port is bound here, so a port in use is refused before anything
@@ -456,11 +493,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         vcd_writer.emplace([&file = *vcd_file](std::string_view text) { file.write(text); }, vcd_config);
         vcd.emplace(rig, elf, *vcd_writer, profiler ? &*profiler : nullptr);
     }
-    if (!reference) {
+    if (!completes) {
         std::fprintf(stderr,
-                     "ddmr-hil: %s does not define the reference sketch's globals (Ex, Ey, Theta, t, ...): no sketch "
-                     "contract, so it runs %g simulated s (--seconds) and ends with exit_reason time_limit\n",
-                     options.firmware.c_str(), options.max_sim_seconds);
+                     "ddmr-hil: %s: %s, so it runs %g simulated s (--seconds) and ends with exit_reason time_limit\n",
+                     options.firmware.c_str(),
+                     contract ? "the sketch contract says nothing about when a run is complete"
+                              : "no sketch contract (--contract FILE, docs/contracts.md)",
+                     options.max_sim_seconds);
     }
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
@@ -475,10 +514,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     std::optional<AtomicFileWriter> firmware_csv;
     // uart.txt grows as the firmware writes, so no copy of it is held in memory.
     AtomicFileWriter uart_txt(options.out_dir / "uart.txt");
-    if (reference) {
+    if (tracer) {
         firmware_csv.emplace(options.out_dir / "firmware.csv");
         std::string header = "iteration,cycle,t_avr_s";
-        for (const auto& v : traced_variables()) header += "," + v.name;
+        for (const auto& v : traced) header += "," + v.name;
         firmware_csv->write(header + "\n");
     }
     // Loop period: gaps between consecutive iterations whose `t` increased
@@ -489,9 +528,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     Cycles period_sum = 0;
     uint64_t period_count = 0;
     uint64_t loop_iterations = 0;
-    const auto& traced = traced_variables();
     const auto t_index = static_cast<std::size_t>(
-        std::find_if(traced.begin(), traced.end(), [](const auto& v) { return v.name == kLoopMarker.name; }) -
+        std::find_if(traced.begin(), traced.end(), [&](const auto& v) { return v.name == loop_marker->name; }) -
         traced.begin());
     if (tracer) tracer->set_sink([&](Cycles cycle, const std::vector<double>& values) {
         row.clear();
@@ -549,29 +587,59 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     });
 
     FirmwareRunResult result;
-    hil::FirmwareReportParser parser(/*expects_eeprom_dump=*/options.test_case == 1);
-    // The firmware's end pose is read as it sends "END": right after, the
-    // sketch reuses Ex/Ey to print the EEPROM log and then zeroes them.
-    std::optional<hil::Variable> ex, ey, theta;
-    if (reference) {
-        ex = rig.variables().lookup("Ex", hil::VarType::kFloat);
-        ey = rig.variables().lookup("Ey", hil::VarType::kFloat);
-        theta = rig.variables().lookup("Theta", hil::VarType::kFloat);
+    // The ddmr-tracking report's EEPROM dump follows only case 1's report.
+    hil::FirmwareReportParser parser(/*expects_eeprom_dump=*/test_case == 1);
+    // The firmware's pose estimate, read as the contract's text arrives (the
+    // reference sketch reuses Ex/Ey right after "END") or at the end.
+    std::optional<hil::Variable> pose_x, pose_y, pose_theta;
+    if (contract && contract->pose) {
+        pose_x = rig.variables().lookup(contract->pose->x, hil::VarType::kFloat);
+        pose_y = rig.variables().lookup(contract->pose->y, hil::VarType::kFloat);
+        pose_theta = rig.variables().lookup(contract->pose->theta, hil::VarType::kFloat);
     }
+    const auto read_pose = [&] {
+        const auto& vars = rig.variables();
+        result.end_pose_firmware = plant::Pose{vars.read(*pose_x), vars.read(*pose_y), vars.read(*pose_theta)};
+    };
+    // Texts the contract waits for in what the firmware sends.
+    TextWatch start_watch(has_start && contract->start->after_text ? *contract->start->after_text : "");
+    TextWatch pose_watch(pose_x && contract->pose->at_text ? *contract->pose->at_text : "");
+    TextWatch done_watch(completes && contract->complete->text ? *contract->complete->text : "");
+    // lines-after: the end of the text's own line, then that many more lines.
+    int lines_to_go = 0;
+    if (completes && contract->complete->text) {
+        lines_to_go = contract->complete->lines_after + (contract->complete->text->back() == '\n' ? 0 : 1);
+    }
+    bool done = false;
+    bool start_seen = false;
+    bool started = !has_start;  // the start text has been sent
     uart.set_listener([&](const hil::UartByte& b) {
         uart_txt.write(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
-        if (!reference) return;
-        const bool was_done = parser.complete() || parser.error().has_value();
-        const bool had_ended = parser.report().ended;
-        parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
-        if (!had_ended && parser.report().ended) {
-            const auto& vars = rig.variables();
-            result.end_pose_firmware = plant::Pose{vars.read(*ex), vars.read(*ey), vars.read(*theta)};
+        const char c = static_cast<char>(b.value);
+        if (start_watch.feed(c)) {
+            start_seen = true;
+            if (!started) core.request_stop();  // the run loop sends the start text now
         }
+        if (pose_watch.feed(c) && !result.end_pose_firmware) read_pose();
+        if (completes && contract->complete->text && !done) {
+            if (done_watch.seen()) {
+                if (c == '\n') --lines_to_go;
+            } else {
+                done_watch.feed(c);
+            }
+            if (done_watch.seen() && lines_to_go <= 0) {
+                done = true;
+                core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
+            }
+        }
+        if (!reports) return;
+        const bool was_done = parser.complete() || parser.error().has_value();
+        parser.feed(std::string_view(&c, 1));
         if (was_done) return;
         if (parser.error()) {
             core.request_stop();
-        } else if (parser.complete()) {
+        } else if (parser.complete() && completes && contract->complete->report) {
+            done = true;
             core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
         }
     });
@@ -598,28 +666,44 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     };
     hil::RunStop stop = hil::RunStop::kReachedCycle;
-    if (reference) {
+    // The contract's start text: once the firmware returns from its ready
+    // function (run up to that first), at an AVR time, or after a text.
+    const auto send_start = [&] {
+        result.ready_cycle = core.cycle();
+        progress("ready");
+        if (profiler) profiler->arm();
+        uart.send(start_text);
+        started = true;
+    };
+    if (ready) {
         stop = killed() ? hil::RunStop::kCondition : core.run_until_return_from(*ready, limit);
         if (gdb) gdb->release_if_detached();
-    } else if (profiler) {
+    } else if (profiler && !has_start) {
         profiler->arm();  // every iteration from reset on
     }
-    const bool booted = !reference || (stop == hil::RunStop::kCondition && !killed() && !wall_guard.tripped &&
-                                       rig.coupler().status() == plant::StepStatus::ok);
+    const bool booted = !ready || (stop == hil::RunStop::kCondition && !killed() && !wall_guard.tripped &&
+                                   rig.coupler().status() == plant::StepStatus::ok);
     if (booted) {
-        if (reference) {
-            result.ready_cycle = core.cycle();
-            progress("ready");
-            if (profiler) profiler->arm();
-            uart.send(std::string(1, static_cast<char>('0' + options.test_case)));
-        }
+        if (ready) send_start();
+        std::optional<Cycles> start_at;
+        if (has_start && contract->start->at_s) start_at = hil::s_to_cycles(*contract->start->at_s, core.clock_hz());
         const Cycles progress_period = hil::s_to_cycles(kProgressPeriodS, core.clock_hz());
         Cycles next_progress = core.cycle() + progress_period;
         stop = hil::RunStop::kReachedCycle;
-        while (stop == hil::RunStop::kReachedCycle && core.cycle() < limit && !killed()) {
+        while (core.cycle() < limit && !killed()) {
+            if (stop == hil::RunStop::kCondition) {
+                // Only the start text stops the run and goes on: it is sent now.
+                if (started || !start_seen || parser.error() || done) break;
+                core.clear_stop_request();
+                send_start();
+            } else if (stop != hil::RunStop::kReachedCycle) {
+                break;
+            }
             send_due();
+            if (!started && start_at && core.cycle() >= *start_at) send_start();
             Cycles next = std::min(limit, next_progress);
             if (next_send < sends.size()) next = std::min(next, sends[next_send].at_cycle);
+            if (!started && start_at) next = std::min(next, *start_at);
             stop = core.run_until(next);
             if (gdb) gdb->release_if_detached();  // back to full speed once gdb has left
             if (stop == hil::RunStop::kReachedCycle && core.cycle() >= next_progress) {
@@ -628,6 +712,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             }
         }
     }
+    if (pose_x && !result.end_pose_firmware) read_pose();  // no text to read it at: the pose at the end
 
     result.cycles_total = core.cycle();
     if (vcd) vcd->finish();
@@ -636,6 +721,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     result.uart_bytes = uart.bytes_received();
     result.eeprom = rig.eeprom().read_all();
     result.report = parser.report();
+    result.has_report = reports;
     const double sim_s = hil::cycles_to_s(result.cycles_total, core.clock_hz());
     avr_cycle_timer_cancel(core.raw(), &on_wall_check, &wall_guard);
     if (wall_guard.tripped) {
@@ -649,24 +735,29 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                                                               hil::FailureWording::kStandalone)) {
         result.exit = run_exit_of(failure->kind);
         result.message = failure->message;
-    } else if (stop == hil::RunStop::kCondition) {
-        if (parser.error()) {
-            result.exit = RunExit::kReportMalformed;
-            result.message = *parser.error();
-        } else {
-            result.exit = RunExit::kReportComplete;
-        }
-    } else if (!reference) {
+    } else if (reports && parser.error()) {
+        result.exit = RunExit::kReportMalformed;
+        result.message = *parser.error();
+    } else if (done) {
+        result.exit = RunExit::kReportComplete;
+    } else if (!completes) {
         result.exit = RunExit::kTimeLimit;  // the run it was asked for, complete
-    } else {  // kReachedCycle
+    } else {  // the time limit came first
         result.exit = RunExit::kTimeout;
-        result.message = result.ready_cycle
-                             ? fmt::format("timeout after {} simulated s: the firmware's report was not "
-                                           "complete (raise --seconds?)",
-                                           options.max_sim_seconds)
-                             : fmt::format("timeout after {} simulated s: the firmware never returned from "
-                                           "'{}', so the case byte was never sent",
-                                           options.max_sim_seconds, options.ready_symbol);
+        const std::string what = contract->complete->report
+                                     ? std::string("the firmware's report was not complete")
+                                     : fmt::format("'{}' never came", *contract->complete->text);
+        if (result.ready_cycle || !has_start) {
+            result.message = fmt::format("timeout after {} simulated s: {} (raise --seconds?)",
+                                         options.max_sim_seconds, what);
+        } else {
+            const auto& st = *contract->start;
+            const std::string when = ready ? fmt::format("the firmware never returned from '{}'", ready_symbol)
+                                     : st.after_text ? fmt::format("'{}' never came", *st.after_text)
+                                                     : std::string("its time never came");
+            result.message = fmt::format("timeout after {} simulated s: {}, so the start text was never sent",
+                                         options.max_sim_seconds, when);
+        }
     }
 
     // A gdb still attached and waiting learns that the program exited, with
@@ -705,11 +796,16 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const RaceReport race = race_report(races, elf);
     isr["races"] = race.json;
     const json torn = torn_reads_summary(races);
-    const hil::EepromLogTiming log_timing =
-        hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), result.ready_cycle.value_or(0), core.clock_hz());
-    // The EEPROM log layout is the reference sketch's: another firmware's bytes are not decoded.
-    const auto log = reference ? hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s)
-                               : decltype(hil::decode_eeprom_log(result.eeprom, 0, {})){};
+    hil::EepromLogTiming log_timing;
+    if (contract && contract->eeprom_log) {
+        log_timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), result.ready_cycle.value_or(0),
+                                            core.clock_hz(), *contract->eeprom_log);
+    }
+    // The EEPROM log, where the contract says the sketch keeps one.
+    const auto log = contract && contract->eeprom_log
+                         ? hil::decode_eeprom_log(result.eeprom, log_timing.sample_count, log_timing.times_s,
+                                                  *contract->eeprom_log)
+                         : std::vector<hil::EepromLogSample>{};
     result.eeprom_log_samples = log.size();
     result.eeprom_writes = rig.eeprom_timing().write_count();
     result.eeprom_writes_recorded = rig.eeprom_timing().writes().size();
@@ -743,8 +839,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"sha256", sha256},
           {"flash_bytes", elf.memory_use().flash_bytes()},
           {"ram_bytes", elf.memory_use().ram_bytes()}}},
-        {"protocol", reference ? "reference" : "none"},
-        {"case", reference ? json(options.test_case) : json(nullptr)},
+        {"protocol", contract ? "contract" : "none"},
+        {"contract", contract ? json(contract->source) : json(nullptr)},
+        {"case", test_case != 0 ? json(test_case) : json(nullptr)},
         {"plant_file", options.plant_file ? options.plant_file->string() : "(embedded defaults)"},
         {"pwm", options.pwm == plant::DriveMode::switched ? "switched" : "averaged"},
         {"eeprom_timing", options.eeprom_timing == hil::EepromTimingMode::kDatasheet ? "datasheet" : "instant"},
@@ -788,7 +885,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                             {"stale_reads", isr["races"]["stale_reads"]}}},
                  {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
-        {"firmware_report", reference ? report_json(result.report) : json(nullptr)},
+        {"firmware_report", reports ? report_json(result.report) : json(nullptr)},
         {"simavr_log",
          {{"errors", core.log().errors()},
           {"warnings", core.log().warnings()},
@@ -798,7 +895,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     write_file_atomic(options.out_dir / "eeprom.bin",
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()),
                                        result.eeprom.size()));
-    if (reference) write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
+    if (contract && contract->eeprom_log) write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
     if (profiler) write_file_atomic(options.out_dir / "loop_profile.csv", loop_profile_csv);
     if (function_profiler) {
         write_file_atomic(options.out_dir / "profile.json", function_profile.dump(2) + "\n");

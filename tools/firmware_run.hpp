@@ -1,13 +1,13 @@
 #pragma once
 // One HIL run of a firmware, as `ddmr-hil run` does it, then the run's
-// artifacts written atomically to the output folder. Two protocols:
-//   reference: the thesis sketch's (its ELF defines `delay` and the traced
-//     globals Ex, Ey, Theta, t, ...): boot, wait for the end of setup(), send
-//     the case byte, run until the firmware's end-of-run report has been sent
-//     (or the simulated-time limit: exit timeout);
-//   none (any other firmware): run --seconds of simulated time and end with
-//     exit_reason time_limit (success); firmware.csv and eeprom_log.csv,
-//     which need the reference sketch's globals and log layout, are not written.
+// artifacts written atomically to the output folder. What is special about
+// the firmware comes from its sketch contract (hil/sketch_contract.hpp,
+// docs/contracts.md; the reference sketch's is firmware/ddmr_tracking/hil.yaml):
+// the start text and when to send it, when the run is complete, its report,
+// its pose and loop globals, its EEPROM log. Without a contract (or without
+// its `complete` section) the run lasts --seconds of simulated time and ends
+// with exit_reason time_limit (success); firmware.csv and eeprom_log.csv are
+// written only when the contract says what to put in them.
 // Both send the --send bytes at their times and end early with every failure
 // reason (crash, watchdog, stack overflow, ...).
 //
@@ -60,17 +60,19 @@ namespace ddmr::tools {
 
 struct FirmwareRunOptions {
     std::filesystem::path firmware;       ///< ELF for the ATmega328P
-    int test_case = 1;                    ///< byte '1' or '2' sent to the sketch
+    /// The sketch contract (none: a time-limited run of any firmware).
+    std::optional<std::filesystem::path> contract;
+    int test_case = 1;                    ///< --case: the contract's {case} in its start text
+    bool case_given = false;              ///< --case was given (else: the contract's first case)
     double max_sim_seconds = 60.0;        ///< simulated-time limit [s], > 0
     /// Wall-clock limit [s], > 0 (not applied while avr-gdb is attached:
     /// a debugging session may sit at a breakpoint for as long as it likes).
     double max_wall_seconds = 600.0;
     std::filesystem::path out_dir;        ///< created if missing
-    /// The case byte is sent when the firmware first returns from this function
-    /// (the reference sketch's setup() ends with delay(5000)).
+    /// --ready-symbol: overrides the contract's start.after-return.
     std::string ready_symbol = "delay";
-    /// --case or --ready-symbol was given: the reference sketch's protocol is
-    /// required (a firmware without its symbols is refused, naming the first).
+    bool ready_symbol_given = false;
+    /// --case or --ready-symbol was given: a contract is required.
     bool reference_protocol_required = false;
     /// Bytes sent to the firmware's RX at an AVR time (--send TEXT@TIME).
     struct Send {
@@ -105,7 +107,7 @@ struct FirmwareRunOptions {
 };
 
 enum class RunExit {
-    kReportComplete,  ///< the whole end-of-run report was received
+    kReportComplete,  ///< the contract's completion (its report, or its text) was received
     kTimeout,         ///< the simulated-time limit came first
     kCrashed,         ///< simavr stopped the CPU (PC past flash, bad access)
     kSleepForever,    ///< SLEEP with interrupts off
@@ -116,7 +118,7 @@ enum class RunExit {
     kWatchdogReset,     ///< the watchdog reset the AVR
     kSimavrError,       ///< simavr reported an error (an invalid opcode, ...)
     kStackOverflow,     ///< the stack grew into .data/.bss (hil/stack_guard.hpp)
-    kTimeLimit,         ///< a firmware without the reference protocol ran its --seconds (success)
+    kTimeLimit,         ///< a run without a contract's `complete` ran its --seconds (success)
 };
 
 /// "TEXT@TIME" (C escapes \r \n \t \\ \xHH in TEXT; TIME with a unit: 2s,
@@ -133,6 +135,7 @@ struct FirmwareRunResult {
     double wall_seconds = 0.0;
     uint64_t uart_bytes = 0;      ///< bytes the firmware sent, all of them in uart.txt
     hil::EepromImage eeprom{};
+    bool has_report = false;      ///< the contract names a report format: `report` is parsed
     hil::FirmwareReport report;
     std::array<hil::EncoderChannelStats, 2> encoder{};
     plant::Pose end_pose_truth{};

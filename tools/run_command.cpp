@@ -12,6 +12,8 @@
 #include "hil/plant_coupler.hpp"
 
 namespace ddmr::tools {
+
+namespace fs = std::filesystem;
 namespace {
 
 struct RunCli {
@@ -28,6 +30,7 @@ struct RunCli {
     bool progress = false;
     int gdb_port = 0;  ///< 0: no --gdb
     std::vector<std::string> sends;  ///< --send TEXT@TIME
+    std::string contract;            ///< --contract FILE
     CLI::Option* case_option = nullptr;
     CLI::Option* ready_option = nullptr;
     CLI::Option* loop_mark_option = nullptr;
@@ -43,9 +46,14 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     cli->options.profile = profile_always;
     sub->add_option("--firmware", cli->options.firmware, "Firmware ELF for the ATmega328P")
         ->capture_default_str();
+    sub->add_option("--contract", cli->contract,
+                    "Sketch contract (YAML, docs/contracts.md): how to start the firmware, when its run is "
+                    "complete, its report, pose, loop and EEPROM log; default: the reference sketch's "
+                    "(firmware/ddmr_tracking/hil.yaml) for the reference ELF, none for any other firmware")
+        ->check(CLI::ExistingFile);
     cli->case_option = sub->add_option("--case", cli->options.test_case,
-                                       "Case byte sent to the reference sketch: 1 = 0.6 m circle in 12 s, 2 = "
-                                       "0.4 m in 8 s (asks for its protocol)")
+                                       "The contract's {case} in its start text; the reference sketch: 1 = 0.6 m "
+                                       "circle in 12 s, 2 = 0.4 m in 8 s")
                            ->capture_default_str();
     sub->add_option("--seconds", cli->options.max_sim_seconds,
                     "Simulated-time limit [s]; the run ends earlier when the report is complete")
@@ -131,7 +139,15 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
                         : cli->out_dir;
         if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
-        o.reference_protocol_required = cli->case_option->count() > 0 || cli->ready_option->count() > 0;
+        o.case_given = cli->case_option->count() > 0;
+        o.ready_symbol_given = cli->ready_option->count() > 0;
+        o.reference_protocol_required = o.case_given || o.ready_symbol_given;
+        if (!cli->contract.empty()) {
+            o.contract = cli->contract;
+        } else if (fs::exists(o.firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) &&
+                   fs::equivalent(o.firmware, DDMR_DEFAULT_FIRMWARE)) {
+            o.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract
+        }
         o.loop_mark_given = cli->loop_mark_option->count() > 0;
         for (const std::string& spec : cli->sends) o.sends.push_back(parse_send(spec, hil::atmega328p::kClockHz));
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
@@ -168,10 +184,16 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
             return kExitFirmware;
         }
         const auto& rep = r.report;
-        std::printf("firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
-                    "theta %.4f rad, %zu EEPROM points\n",
-                    rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
-                    rep.ey.value_or(0), rep.theta.value_or(0), rep.eeprom_pairs.size());
+        if (r.has_report) {
+            std::printf("firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
+                        "theta %.4f rad, %zu EEPROM points\n",
+                        rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
+                        rep.ey.value_or(0), rep.theta.value_or(0), rep.eeprom_pairs.size());
+        } else if (r.end_pose_firmware) {
+            std::printf("firmware pose estimate: (%.4f, %.4f) m, theta %.4f rad; %zu EEPROM log samples\n",
+                        r.end_pose_firmware->x_m, r.end_pose_firmware->y_m, r.end_pose_firmware->theta_rad,
+                        r.eeprom_log_samples);
+        }
         std::printf("plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; %llu loop iterations, "
                     "mean period %.3f ms; lost encoder edges %llu / %llu\n",
                     r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -388,7 +389,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"NotANumber", "--seconds abc", "--seconds"},
         BadInput{"MissingEeprom", "--eeprom @TMP@/none.bin", "none.bin"},
         BadInput{"ShortEeprom", "--eeprom @TMP@/not-elf.elf", "bytes, the ATmega328P has 1024"},
-        BadInput{"UnknownReadySymbol", "--ready-symbol nosuch", "no symbol 'nosuch'"},
+        BadInput{"UnknownReadySymbol", "--ready-symbol nosuch", "has no function 'nosuch' (--ready-symbol)"},
         BadInput{"VcdFolderMissing", "--vcd @TMP@/nodir/run.vcd", "--vcd"},
         BadInput{"VcdIsAFolder", "--vcd @TMP@", "--vcd"},
         BadInput{"TopZero", "--profile --top 0", "--top"},
@@ -438,7 +439,7 @@ TEST(RunCommand, AnyFirmwareRefusesTheReferenceOptionsAndBadSends) {
     const std::string fw = " --firmware " + sh_quote((test_firmware_dir() / "echo_fixture.elf").string());
     auto r = run_command(cli() + " run -q --case 2 --seconds 0.1" + fw + " --out " + sh_quote((dir / "a").string()));
     EXPECT_EQ(r.exit_code, 2);
-    EXPECT_NE(r.err.find("has no symbol 'delay'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--case / --ready-symbol need a sketch contract"), std::string::npos) << r.err;
     r = run_command(cli() + " run -q --seconds 0.1 --send 'x@2'" + fw + " --out " + sh_quote((dir / "b").string()));
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--send 'x@2': TIME '2' must be a non-negative number with a unit"), std::string::npos) << r.err;
@@ -486,6 +487,59 @@ TEST(RunCommand, AnyFirmwareGetsARaceReport) {
     const std::string md = read_text(dir / "racy" / "isr.md");
     EXPECT_NE(md.find("| `ticks` | 4 | read | `main` |"), std::string::npos) << md;
     EXPECT_NE(md.find("Declare the variable `volatile`"), std::string::npos) << md;
+}
+
+TEST(RunCommand, AnyFirmwareThroughItsSketchContract) {
+    // contract_fixture.c with contract_fixture.yaml: start on "ready" with the
+    // case digit, complete two lines after "DONE", pose read at "DONE" (the
+    // firmware zeroes px after), firmware.csv per `t` step, EEPROM log at
+    // 100.. / 300.., one byte per sample, 100 counts per metre, no unwrap.
+    TempDir dir;
+    const auto lines = [](const std::string& t) { return std::count(t.begin(), t.end(), '\n'); };
+    const std::string fw = " --firmware " + sh_quote((test_firmware_dir() / "contract_fixture.elf").string());
+    const std::string contract =
+        " --contract " + sh_quote((fs::path(DDMR_TEST_SOURCE_DIR) / "tests/firmware/contract_fixture.yaml").string());
+    const auto out = dir / "with";
+    auto r = run_command(cli() + " run -q --seconds 2 --case 4" + fw + contract + " --out " + sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_text(out / "uart.txt"), "ready\r\nDONE\r\n400,50\r\nbye\r\n");  // case 4: 50 x 0.008 m
+    const json s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s["exit_reason"], "report_complete");
+    EXPECT_EQ(s["protocol"], "contract");
+    EXPECT_EQ(s["case"], 4);
+    EXPECT_TRUE(s["firmware_report"].is_null());  // no report format in the contract
+    EXPECT_NEAR(s["end_pose_firmware"]["x_m"].get<double>(), 0.4, 1e-5);
+    EXPECT_NEAR(s["end_pose_firmware"]["y_m"].get<double>(), 0.05, 1e-5);
+    EXPECT_NEAR(s["end_pose_firmware"]["theta_rad"].get<double>(), 0.5, 1e-5);
+    EXPECT_EQ(s["loop_iterations"], 50);
+    EXPECT_EQ(lines(read_text(out / "firmware.csv")), 51);  // header + 50 iterations
+    EXPECT_EQ(read_text(out / "firmware.csv").substr(0, 34), "iteration,cycle,t_avr_s,px,py,th,t");
+    // Sample k = px, py after iteration 10k + 10: int(0.08 (k + 1) * 100), int(0.01 (k + 1) * 100) in float.
+    const std::string log = read_text(out / "eeprom_log.csv");
+    EXPECT_EQ(lines(log), 6);
+    EXPECT_NE(log.find("\n0,"), std::string::npos);
+    EXPECT_NE(log.find(",0.080000,0.010000\n"), std::string::npos) << log;
+    // The same firmware without its contract: a time-limited run, nothing made up.
+    const auto bare = dir / "bare";
+    r = run_command(cli() + " run -q --seconds 0.05" + fw + " --out " + sh_quote(bare.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json b = json::parse(read_text(bare / "summary.json"));
+    EXPECT_EQ(b["exit_reason"], "time_limit");
+    EXPECT_EQ(read_text(bare / "uart.txt"), "ready\r\n");  // nobody sent the case digit
+    EXPECT_FALSE(fs::exists(bare / "firmware.csv"));
+    // A contract whose completion never comes: a timeout that names it (exit 3).
+    std::ofstream(dir / "never.yaml") << "start: {send: \"3\", after-text: ready}\ncomplete: {text: NEVER}\n";
+    r = run_command(cli() + " run -q --seconds 0.2" + fw + " --contract " + sh_quote((dir / "never.yaml").string()) +
+                    " --out " + sh_quote((dir / "never").string()));
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("'NEVER' never came"), std::string::npos) << r.err;
+    // A bad contract is refused before anything is written.
+    std::ofstream(dir / "bad.yaml") << "pose: {x: px, y: py, theta: nosuch}\n";
+    r = run_command(cli() + " run -q --seconds 0.2" + fw + " --contract " + sh_quote((dir / "bad.yaml").string()) +
+                    " --out " + sh_quote((dir / "bad").string()));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("nosuch"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
 }  // namespace
