@@ -22,6 +22,7 @@
 #include "hil/elf_image.hpp"
 #include "hil/function_profiler.hpp"
 #include "hil/gdb_server.hpp"
+#include "hil/host_adapter.hpp"
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_tracer.hpp"
 #include "hil/race_detector.hpp"
@@ -580,7 +581,16 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             trace_tracer->set_sink(write_row);
         }
     }
+    std::optional<hil::HostAdapter> adapter;
+    if (options.baud) adapter.emplace(core, *options.baud);
+    std::vector<hil::LineByte> settled;
+    std::function<void(char)> host_byte_sink;  // on_host_byte, once it exists
     rig.coupler().set_boundary_hook([&](Cycles cycle) {
+        if (adapter && host_byte_sink) {
+            settled.clear();
+            adapter->settle(cycle, settled);  // bytes whose stop bit the adapter has sampled
+            for (const auto& d : settled) host_byte_sink(static_cast<char>(d.value));
+        }
         if (tracer) tracer->poll(cycle);
         if (trace_tracer && options.trace_every_cycles == 0) trace_tracer->poll(cycle);
         if (vcd) vcd->on_boundary(cycle);
@@ -613,9 +623,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     bool done = false;
     bool start_seen = false;
     bool started = !has_start;  // the start text has been sent
-    uart.set_listener([&](const hil::UartByte& b) {
-        uart_txt.write(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
-        const char c = static_cast<char>(b.value);
+    // What the host receives: the firmware's bytes as sent, or (--baud) as the
+    // host's adapter at its own rate decodes them.
+    const auto on_host_byte = [&](const char c) {
+        uart_txt.write(std::string_view(&c, 1));
         if (start_watch.feed(c)) {
             start_seen = true;
             if (!started) core.request_stop();  // the run loop sends the start text now
@@ -642,7 +653,21 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             done = true;
             core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
         }
+    };
+    host_byte_sink = on_host_byte;
+    std::vector<hil::LineByte> decoded;
+    uart.set_listener([&](const hil::UartByte& b) {
+        if (!adapter) {
+            on_host_byte(static_cast<char>(b.value));
+            return;
+        }
+        decoded.clear();
+        adapter->on_firmware_byte(b, decoded);
+        for (const auto& d : decoded) on_host_byte(static_cast<char>(d.value));
     });
+    const auto host_sends = [&](const std::string& text) {
+        uart.send(adapter ? adapter->as_firmware_receives(text) : text);
+    };
 
     const Cycles limit = hil::s_to_cycles(options.max_sim_seconds, core.clock_hz());
     const auto progress = [&](const char* phase) {
@@ -662,7 +687,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     std::size_t next_send = 0;
     const auto send_due = [&] {
         for (; next_send < sends.size() && sends[next_send].at_cycle <= core.cycle(); ++next_send) {
-            uart.send(sends[next_send].bytes);
+            host_sends(sends[next_send].bytes);
         }
     };
     hil::RunStop stop = hil::RunStop::kReachedCycle;
@@ -672,7 +697,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         result.ready_cycle = core.cycle();
         progress("ready");
         if (profiler) profiler->arm();
-        uart.send(start_text);
+        host_sends(start_text);
         started = true;
     };
     if (ready) {
@@ -714,6 +739,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     if (pose_x && !result.end_pose_firmware) read_pose();  // no text to read it at: the pose at the end
 
+    if (adapter) {  // bytes still on the wire reach the adapter
+        settled.clear();
+        adapter->flush(settled);
+        for (const auto& d : settled) on_host_byte(static_cast<char>(d.value));
+    }
     result.cycles_total = core.cycle();
     if (vcd) vcd->finish();
     result.wall_seconds =
@@ -859,7 +889,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
          {{"bytes", uart.bytes_received()},
           {"cycles_per_byte", uart.cycles_per_byte()},
           {"timing", options.uart_timing == hil::UartTiming::kChip ? "chip" : "simavr"},
-          {"bytes_not_delivered", uart.pending()}}},
+          {"bytes_not_delivered", uart.pending()},
+          {"adapter_baud", adapter ? json(adapter->baud()) : json(nullptr)},
+          {"framing_errors", adapter ? json(adapter->framing_errors()) : json(nullptr)}}},
         {"board", {{"file", config.board.source}, {"wiring_warnings", wiring_warnings}}},
         {"encoder", encoder},
         {"end_pose_truth", pose_json(result.end_pose_truth)},

@@ -80,6 +80,10 @@ struct FirmwareRunOptions {
         hil::Cycles at_cycle = 0;
     };
     std::vector<Send> sends;
+    /// --baud: the host's serial adapter runs at this rate (8N1) and decodes
+    /// the firmware's frames as a real adapter would (garbage and framing
+    /// errors when the rates differ); unset: the host reads the bytes as sent.
+    std::optional<uint32_t> baud;
     std::optional<std::filesystem::path> eeprom_preload;  ///< 1024-byte image
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
     std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML

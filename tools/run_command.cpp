@@ -31,6 +31,7 @@ struct RunCli {
     int gdb_port = 0;  ///< 0: no --gdb
     std::vector<std::string> sends;  ///< --send TEXT@TIME
     std::string contract;            ///< --contract FILE
+    uint32_t baud = 0;               ///< --baud N (0: none)
     CLI::Option* case_option = nullptr;
     CLI::Option* ready_option = nullptr;
     CLI::Option* loop_mark_option = nullptr;
@@ -69,6 +70,11 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                                         "Reference protocol: send the case byte when the firmware first returns "
                                         "from this function (asks for that protocol)")
                             ->capture_default_str();
+    sub->add_option("--baud", cli->baud,
+                    "The host's serial adapter at this rate (8N1): it decodes the firmware's frames as a real "
+                    "adapter does (garbage and framing errors when the sketch's Serial.begin differs) and sends "
+                    "--send text at it; default: the bytes as the firmware sends them")
+        ->check(CLI::Range(300U, 2'000'000U));
     sub->add_option("--send", cli->sends,
                     "Send TEXT to the firmware's RX at AVR time TIME: TEXT@TIME, e.g. 'go\\r\\n@2s' (C escapes "
                     "\\r \\n \\t \\\\ \\xHH; TIME in s, ms or us); repeatable")
@@ -139,6 +145,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
                         : cli->out_dir;
         if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
+        if (cli->baud != 0) o.baud = cli->baud;
         o.case_given = cli->case_option->count() > 0;
         o.ready_symbol_given = cli->ready_option->count() > 0;
         o.reference_protocol_required = o.case_given || o.ready_symbol_given;

@@ -542,5 +542,29 @@ TEST(RunCommand, AnyFirmwareThroughItsSketchContract) {
     EXPECT_FALSE(fs::exists(dir / "bad"));
 }
 
+TEST(RunCommand, BaudPutsTheHostsAdapterOnTheLine) {
+    // echo_fixture listens and answers at 9600 baud: an adapter at 9600
+    // reads its answer; one at 57600 sends garbage and reads garbage, with
+    // framing errors, as on the bench.
+    TempDir dir;
+    const std::string fw = " --firmware " + sh_quote((test_firmware_dir() / "echo_fixture.elf").string());
+    const auto run = [&](const char* baud) {
+        const auto out = dir / baud;
+        const auto r = run_command(cli() + " run -q --seconds 0.2 --send 'hello\\n@10ms' --baud " + baud + fw +
+                                   " --out " + sh_quote(out.string()));
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return std::make_pair(read_text(out / "uart.txt"), json::parse(read_text(out / "summary.json"))["uart"]);
+    };
+    const auto [good, good_uart] = run("9600");
+    EXPECT_EQ(good, "HELLO\n");
+    EXPECT_EQ(good_uart["adapter_baud"], 9600);
+    EXPECT_EQ(good_uart["framing_errors"], 0);
+    const auto [bad, bad_uart] = run("57600");
+    EXPECT_NE(bad, "HELLO\n");
+    EXPECT_GT(bad_uart["framing_errors"].get<uint64_t>(), 0u);
+    const auto r = run_command(cli() + " run -q --baud 0" + fw + " --out " + sh_quote((dir / "zero").string()));
+    EXPECT_EQ(r.exit_code, 2);
+}
+
 }  // namespace
 }  // namespace ddmr::test

@@ -28,6 +28,7 @@
 #include "hil/run_failure.hpp"
 #include "hil/serial_line.hpp"
 #include "hil/stack_guard.hpp"
+#include "hil/host_adapter.hpp"
 #include "hil/race_detector.hpp"
 #include "race_report.hpp"
 #include "hil/vcd_recorder.hpp"
@@ -38,7 +39,6 @@
 namespace ddmr::tools::scenario {
 namespace fs = std::filesystem;
 namespace chip = hil::atmega328p;
-namespace reg = hil::atmega328p::reg;
 using nlohmann::json;
 
 const char* to_string(Verdict v) {
@@ -94,8 +94,7 @@ hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
 class Session {
 public:
     Session(const Scenario& s, const fs::path& out_dir, bool progress)
-        : s_(s), out_dir_(out_dir), progress_(progress), elf_(hil::ElfImage::read(s.firmware)),
-          adapter_(static_cast<double>(chip::kClockHz) / s.baud) {
+        : s_(s), out_dir_(out_dir), progress_(progress), elf_(hil::ElfImage::read(s.firmware)) {
         elf_.require_atmega328p();
         if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload);
         hil::RigConfig config;
@@ -104,6 +103,7 @@ public:
         config.coupler.mode = s.pwm;
         config.eeprom_timing = s.eeprom_timing;
         rig_.emplace(elf_, config);
+        adapter_.emplace(rig_->core(), s.baud);
         if (preload_) rig_->eeprom().preload(*preload_);
         isr_.emplace(rig_->core(), elf_);
         stack_guard_.emplace(rig_->core(), elf_);
@@ -161,7 +161,7 @@ public:
         }
         // Bytes still on the wire reach the adapter.
         std::vector<hil::LineByte> tail;
-        adapter_.flush(tail);
+        adapter_->flush(tail);
         for (const auto& b : tail) receive(b);
         if (!line_.empty()) check_fail_patterns(line_.view(), core().cycle());  // a last line without \n
         if (halt_ == Halt::kFailSerial && r.verdict == Verdict::kPass) {
@@ -172,7 +172,7 @@ public:
         r.sim_seconds = seconds(r.cycles);
         r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         r.uart_bytes = text_.size();
-        r.framing_errors = adapter_.framing_errors();
+        r.framing_errors = adapter_->framing_errors();
         write_artifacts(r);
         truth.commit();
         return r;
@@ -183,15 +183,9 @@ private:
     double seconds(Cycles c) const { return hil::cycles_to_s(c, chip::kClockHz); }
 
     // --- serial: firmware -> adapter ------------------------------------
-    /// The firmware's USART0 bit time now, from UBRR0 and U2X0.
-    double firmware_bit_cycles() {
-        const auto ubrr = static_cast<uint16_t>(((core().data(reg::kUbrr0H) & 0x0F) << 8) | core().data(reg::kUbrr0L));
-        const bool u2x = (core().data(reg::kUcsr0A) & 0x02) != 0;
-        return hil::SerialLine::avr_bit_cycles(ubrr, u2x);
-    }
     void on_firmware_byte(const hil::UartByte& b) {
         scratch_.clear();
-        adapter_.push(static_cast<double>(b.cycle), b.value, firmware_bit_cycles(), scratch_);
+        adapter_->on_firmware_byte(b, scratch_);
         for (const auto& lb : scratch_) receive(lb);
     }
     void receive(const hil::LineByte& b) {
@@ -223,28 +217,13 @@ private:
         }
     }
 
-    // --- host -> firmware: bytes the firmware's receiver makes of the adapter's frames
-    std::string as_firmware_receives(const std::string& text) {
-        hil::SerialLine firmware_rx(firmware_bit_cycles());
-        std::vector<hil::LineByte> got;
-        double t = 0.0;
-        const double bit = static_cast<double>(chip::kClockHz) / s_.baud;
-        for (const char c : text) {
-            firmware_rx.push(t, static_cast<uint8_t>(c), bit, got);
-            t += 10.0 * bit;
-        }
-        firmware_rx.flush(got);
-        std::string out;
-        for (const auto& b : got) out.push_back(static_cast<char>(b.value));
-        return out;
-    }
-
     // --- timed actions and the boundary poll -----------------------------
-    bool receiver_enabled() { return (core().data(reg::kUcsr0B) & (1U << 4)) != 0; }  // RXEN0
+    bool receiver_enabled() const { return adapter_->receiver_enabled(); }
+    std::string as_firmware_receives(const std::string& text) const { return adapter_->as_firmware_receives(text); }
     void on_boundary(Cycles c) {
         vcd_->on_boundary(c);
         scratch_.clear();
-        adapter_.settle(static_cast<double>(c), scratch_);  // bytes whose stop bit has been sampled
+        adapter_->settle(c, scratch_);  // bytes whose stop bit has been sampled
         for (const auto& lb : scratch_) receive(lb);
         if (!unsent_.empty() && receiver_enabled()) {
             rig_->uart().send(as_firmware_receives(unsent_));
@@ -322,7 +301,7 @@ private:
                 seen.size() > 60 ? "..." + std::string(seen.substr(seen.size() - 60)) : std::string(seen);
             throw StepFailed{Verdict::kFail,
                              fmt::format("expected '{}' within {:.3f} s; received {} bytes ({} framing errors), ending '{}'",
-                                         w.text, seconds(w.timeout), text_.size(), adapter_.framing_errors(),
+                                         w.text, seconds(w.timeout), text_.size(), adapter_->framing_errors(),
                                          printable(tail))};
         }
         cursor_ = *text_.find(w.text, cursor_) + w.text.size();
@@ -744,7 +723,7 @@ private:
     std::optional<hil::VcdWriter> vcd_writer_;
     std::optional<hil::VcdRecorder> vcd_;
     bool armed_ = false;
-    hil::SerialLine adapter_;
+    std::optional<hil::HostAdapter> adapter_;  ///< the host's serial adapter at the scenario's baud
     std::vector<hil::LineByte> scratch_;
     TextWindow text_{kSerialWindowBytes};  ///< the received text's end (uart.txt has it all)
     TextWindow line_{kSerialWindowBytes};  ///< the line being received, without \r
