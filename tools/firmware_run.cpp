@@ -810,13 +810,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         result.loop_profile = profiler->iterations();
         loop_profile = loop_profile_json(result.loop_profile, core.clock_hz());
         loop_profile["eeprom_writes_all_tagged"] = rig.eeprom_timing().all_writes_recorded();
-        loop_profile["mark"] = options.loop_mark;
+        loop_profile["mark"] = loop_mark_name;
         loop_profile_csv = loop_profile_table(result.loop_profile, core.clock_hz());
     }
     json function_profile = nullptr;
     std::string function_profile_txt;
     if (function_profiler) {
-        const FunctionProfileContext context{core.clock_hz(), options.loop_mark};
+        const FunctionProfileContext context{core.clock_hz(), loop_mark_name};
         function_profile = function_profile_json(*function_profiler, context);
         function_profile_txt = function_profile_text(*function_profiler, context);
         result.function_profile_top = ddmr::tools::function_profile_top(*function_profiler, context, options.profile_top);

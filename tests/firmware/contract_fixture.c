@@ -1,7 +1,8 @@
 /* A firmware that is not the reference sketch, driven through its sketch
  * contract (tests/firmware/contract_fixture.yaml, docs/contracts.md):
  *   - sends "ready\r\n" at boot, then waits for one byte: the case digit;
- *   - runs 50 loop iterations (~1 ms each: TIMER0 overflows), each adding
+ *   - runs 50 loop iterations (~1 ms each: TIMER0 overflows), each calling
+ *     step() (the contract's loop.function), which adds
  *     0.01 to `t` and case * 0.002 m to `px`, 0.001 m to `py`, 0.01 rad to `th`;
  *   - every 10th iteration logs int(px * 100) at EEPROM 100 + k and
  *     int(py * 100) at 300 + k (one byte each, stride 1);
@@ -41,6 +42,14 @@ static void put_int(int v) {
     while (n != 0) put(buf[--n]);
 }
 
+/* One control-loop iteration: the contract's loop.function (the profile's loop mark). */
+__attribute__((noinline)) static void step(uint8_t mode) {
+    t += 0.01f;
+    px += 0.002f * mode;
+    py += 0.001f;
+    th += 0.01f;
+}
+
 int main(void) {
     UBRR0H = 0;
     UBRR0L = 207; /* 9600 baud with U2X0 at 16 MHz */
@@ -58,10 +67,7 @@ int main(void) {
         const uint8_t start = overflows;
         while ((uint8_t)(overflows - start) < 8) {
         }
-        t += 0.01f;
-        px += 0.002f * mode;
-        py += 0.001f;
-        th += 0.01f;
+        step(mode);
         if (i % 10 == 9) {
             const uint8_t k = i / 10;
             eeprom_write_byte((uint8_t*)(100 + k), (uint8_t)(int)(px * 100.0f));

@@ -23,6 +23,7 @@ struct Misbehaviour {
     const char* firmware;
     const char* reason;   ///< fragment of the one-line reason
     const char* printed;  ///< what uart.txt must start with
+    const char* run_exit; ///< summary.json's exit_reason of `run` without a contract
 };
 
 void PrintTo(const Misbehaviour& m, std::ostream* os) { *os << m.firmware; }
@@ -47,15 +48,38 @@ TEST_P(MisbehavingFirmware, EndsWithItsReasonAndKeepsWhatItPrinted) {
     EXPECT_TRUE(fs::exists(dir / "out/listen/failure_window.vcd"));
 }
 
+// The same firmwares through `run`, with no sketch contract: every failure
+// reason ends the run the same way; one that only never finishes is a
+// complete time-limited run (nothing said when it would end).
+TEST_P(MisbehavingFirmware, RunWithoutAContractEndsWithTheSameReason) {
+    const Misbehaviour& m = GetParam();
+    TempDir dir;
+    const fs::path elf = fs::path(DDMR_MISBEHAVING_DIR) / (std::string(m.firmware) + ".elf");
+    const auto out = dir / "run";
+    const auto r = run_command(sh_quote(cli_path().string()) + " run -q --seconds 2 --firmware " + sh_quote(elf.string()) +
+                               " --out " + sh_quote(out.string()));
+    const auto summary = nlohmann::json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(summary["exit_reason"], m.run_exit);
+    if (std::string(m.run_exit) == "time_limit") {
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+    } else {
+        EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+        EXPECT_NE(r.err.find(summary["exit_message"].get<std::string>()), std::string::npos) << r.err;  // said on stderr
+    }
+    const std::string uart = read_text(out / "uart.txt");
+    EXPECT_EQ(uart.substr(0, std::string(m.printed).size()), m.printed);
+    EXPECT_TRUE(fs::exists(out / "isr.md"));
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Reliability, MisbehavingFirmware,
-    ::testing::Values(Misbehaviour{"crash_jump", "crashed at PC 0x", "jumping\r\n"},
-                      Misbehaviour{"invalid_opcode", "Invalid Opcode", "invalid\r\n"},
-                      Misbehaviour{"sleep_forever", "slept with interrupts off", "sleeping\r\n"},
-                      Misbehaviour{"never_prints", "timeout after 2 simulated s", ""},
-                      Misbehaviour{"watchdog", "watchdog reset at cycle", "booted\r\n"},
-                      Misbehaviour{"stack_overflow", "stack overflow into .bss at cycle", "recursing\r\n"},
-                      Misbehaviour{"uart_flood", "timeout after 2 simulated s", "FLOOD FLOOD"}),
+    ::testing::Values(Misbehaviour{"crash_jump", "crashed at PC 0x", "jumping\r\n", "crashed"},
+                      Misbehaviour{"invalid_opcode", "Invalid Opcode", "invalid\r\n", "simavr_error"},
+                      Misbehaviour{"sleep_forever", "slept with interrupts off", "sleeping\r\n", "sleep_with_interrupts_off"},
+                      Misbehaviour{"never_prints", "timeout after 2 simulated s", "", "time_limit"},
+                      Misbehaviour{"watchdog", "watchdog reset at cycle", "booted\r\n", "watchdog_reset"},
+                      Misbehaviour{"stack_overflow", "stack overflow into .bss at cycle", "recursing\r\n", "stack_overflow"},
+                      Misbehaviour{"uart_flood", "timeout after 2 simulated s", "FLOOD FLOOD", "time_limit"}),
     [](const ::testing::TestParamInfo<Misbehaviour>& param_info) { return std::string(param_info.param.firmware); });
 
 TEST(MisbehavingFirmware, AFloodedUartIsReceivedInFull) {

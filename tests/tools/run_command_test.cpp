@@ -519,6 +519,12 @@ TEST(RunCommand, AnyFirmwareThroughItsSketchContract) {
     EXPECT_EQ(lines(log), 6);
     EXPECT_NE(log.find("\n0,"), std::string::npos);
     EXPECT_NE(log.find(",0.080000,0.010000\n"), std::string::npos) << log;
+    // profile takes the contract's loop.function as its loop mark: 50 iterations of step().
+    r = run_command(cli() + " profile -q --seconds 2" + fw + contract + " --out " + sh_quote((dir / "prof").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json p = json::parse(read_text(dir / "prof" / "summary.json"));
+    EXPECT_EQ(p["loop_profile"]["mark"], "step");
+    EXPECT_EQ(p["loop_profile"]["iterations"], 49);  // the completed ones: from one step() to the next
     // The same firmware without its contract: a time-limited run, nothing made up.
     const auto bare = dir / "bare";
     r = run_command(cli() + " run -q --seconds 0.05" + fw + " --out " + sh_quote(bare.string()));
