@@ -62,7 +62,10 @@ std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sam
         s.sample = k;
         s.x_byte = image[x_addr];
         s.y_byte = image[y_addr];
-        if (k == 0 || !layout.unwrap) {
+        if (!layout.is_signed) {
+            s.x_counts = s.x_byte;
+            s.y_counts = s.y_byte;
+        } else if (k == 0 || !layout.unwrap) {
             s.x_counts = signed_counts(s.x_byte);
             s.y_counts = signed_counts(s.y_byte);
         } else {

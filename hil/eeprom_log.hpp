@@ -53,6 +53,7 @@ struct EepromLogLayout {
     int y_address = eeprom_log::kYOffset;
     int stride = eeprom_log::kAddressStride;
     double counts_per_metre = eeprom_log::kCountsPerMetre;
+    bool is_signed = true;  ///< false: each byte is 0..255 counts (no unwrapping)
     bool unwrap = true;
     double sample_period_s = eeprom_log::kSamplePeriod_s;  ///< nominal time between samples [s]
     /// Samples that fit: the x bytes stay below the y bytes (or the EEPROM's end).

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <regex>
 #include <stdexcept>
 
 #include "hil/yaml_reader.hpp"
@@ -26,7 +27,14 @@ double duration_s(const YamlReader& r, const YAML::Node& n, const std::string& k
 
 }  // namespace
 
-const char* to_string(ReportFormat f) { return f == ReportFormat::kDdmrTracking ? "ddmr-tracking" : "none"; }
+const char* to_string(ReportFormat f) {
+    switch (f) {
+        case ReportFormat::kDdmrTracking: return "ddmr-tracking";
+        case ReportFormat::kFields: return "fields";
+        case ReportFormat::kNone: break;
+    }
+    return "none";
+}
 
 std::string SketchContract::start_text(int test_case) const {
     if (!start) return "";
@@ -79,11 +87,31 @@ SketchContract load_sketch_contract(const std::filesystem::path& path) {
         c.start = s;
     }
     if (const YAML::Node n = root["report"]) {
-        const std::string f = r.text(n, "report");
-        if (f == "ddmr-tracking") {
-            c.report = ReportFormat::kDdmrTracking;
-        } else if (f != "none") {
-            r.fail(n, "report", fmt::format("unknown report format '{}' (none or ddmr-tracking)", f));
+        if (n.IsMap()) {  // named fields: {name: "regex with (a number)", ...}
+            r.only_keys(n, "report", {"fields"});
+            if (!n["fields"] || !n["fields"].IsMap() || n["fields"].size() == 0) {
+                r.fail(n, "report.fields", "expected a mapping of field names to patterns");
+            }
+            for (const auto& kv : n["fields"]) {
+                const std::string name = kv.first.Scalar();
+                const std::string key = "report.fields." + name;
+                const std::string pattern = r.text(kv.second, key);
+                try {
+                    const std::regex re(pattern);
+                    if (re.mark_count() < 1) r.fail(kv.second, key, "the pattern needs a (group) around the number");
+                } catch (const std::regex_error& e) {
+                    r.fail(kv.second, key, fmt::format("'{}' is not a regular expression: {}", pattern, e.what()));
+                }
+                c.report_fields.push_back(ReportField{name, pattern});
+            }
+            c.report = ReportFormat::kFields;
+        } else {
+            const std::string f = r.text(n, "report");
+            if (f == "ddmr-tracking") {
+                c.report = ReportFormat::kDdmrTracking;
+            } else if (f != "none") {
+                r.fail(n, "report", fmt::format("unknown report format '{}' (none, ddmr-tracking, or fields: {{...}})", f));
+            }
         }
     }
     if (const YAML::Node n = root["complete"]) {
@@ -97,8 +125,9 @@ SketchContract load_sketch_contract(const std::filesystem::path& path) {
         }
         if (n["report"]) {
             done.report = r.boolean(n["report"], "complete.report");
-            if (done.report && c.report == ReportFormat::kNone) {
-                r.fail(n["report"], "complete.report", "needs a report format (report: ddmr-tracking)");
+            if (done.report && c.report != ReportFormat::kDdmrTracking) {
+                r.fail(n["report"], "complete.report",
+                       "needs a report format that knows its end (report: ddmr-tracking); fields: use complete.text");
             }
         }
         if (!done.text && !done.report) r.fail(n, "complete", "give text (and lines-after) or report: true");
@@ -126,7 +155,8 @@ SketchContract load_sketch_contract(const std::filesystem::path& path) {
     if (c.loop.marker && c.trace.empty()) c.trace.push_back(*c.loop.marker);
     if (const YAML::Node n = root["eeprom-log"]) {
         r.mapping(n, "eeprom-log");
-        r.only_keys(n, "eeprom-log", {"x-address", "y-address", "stride", "counts-per-metre", "unwrap", "sample-period"});
+        r.only_keys(n, "eeprom-log",
+                    {"x-address", "y-address", "stride", "counts-per-metre", "signed", "unwrap", "sample-period"});
         EepromLogLayout l;
         const auto eeprom_end = static_cast<long>(atmega328p::kEepromBytes) - 1;
         if (!n["x-address"] || !n["y-address"]) r.fail(n, "eeprom-log", "give x-address and y-address");
@@ -136,7 +166,12 @@ SketchContract load_sketch_contract(const std::filesystem::path& path) {
         if (n["counts-per-metre"]) {
             l.counts_per_metre = r.number(n["counts-per-metre"], "eeprom-log.counts-per-metre", 1e-6, 1e9);
         }
+        if (n["signed"]) l.is_signed = r.boolean(n["signed"], "eeprom-log.signed");
         if (n["unwrap"]) l.unwrap = r.boolean(n["unwrap"], "eeprom-log.unwrap");
+        if (!l.is_signed && n["unwrap"] && l.unwrap) {
+            r.fail(n["unwrap"], "eeprom-log.unwrap", "unwrapping starts from a signed first sample: not with signed: false");
+        }
+        if (!l.is_signed) l.unwrap = false;
         if (n["sample-period"]) l.sample_period_s = duration_s(r, n["sample-period"], "eeprom-log.sample-period");
         if (l.max_samples() == 0) r.fail(n, "eeprom-log", "the x and y series leave no room for a sample");
         c.eeprom_log = l;

@@ -9,7 +9,9 @@
 //   complete:  when the run is complete: a text (and N more lines), or the
 //              end of a report in a known format
 //   report:    the report's format (ddmr-tracking: the thesis sketch's,
-//              hil/firmware_report.hpp), parsed into summary.json
+//              hil/firmware_report.hpp), or named fields, each a regular
+//              expression whose first group is a number, parsed into
+//              summary.json
 //   pose:      the float globals of the firmware's pose estimate, read when
 //              a text arrives (or at the end of the run)
 //   loop:      a global that changes once per control-loop iteration
@@ -39,7 +41,14 @@ struct ContractStart {
     std::optional<std::string> after_text;
 };
 
-enum class ReportFormat { kNone, kDdmrTracking };
+enum class ReportFormat { kNone, kDdmrTracking, kFields };
+
+/// A report field: the last line the pattern (ECMAScript regex) matches
+/// gives the value, its first capture group read as a number.
+struct ReportField {
+    std::string name;
+    std::string pattern;
+};
 
 struct ContractComplete {
     std::optional<std::string> text;  ///< complete when this text has been received ...
@@ -62,6 +71,7 @@ struct SketchContract {
     std::optional<ContractStart> start;
     std::optional<ContractComplete> complete;
     ReportFormat report = ReportFormat::kNone;
+    std::vector<ReportField> report_fields;  ///< with ReportFormat::kFields
     std::optional<ContractPose> pose;
     ContractLoop loop;
     std::vector<std::string> trace;  ///< firmware.csv's columns
@@ -76,7 +86,7 @@ struct SketchContract {
 /// "FILE:LINE: key 'K': ..." naming the first problem.
 SketchContract load_sketch_contract(const std::filesystem::path& path);
 
-/// The ReportFormat's name in the file ("none", "ddmr-tracking").
+/// The ReportFormat's name in the file ("none", "ddmr-tracking", "fields").
 const char* to_string(ReportFormat f);
 
 }  // namespace ddmr::hil

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <regex>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -625,8 +626,35 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     bool started = !has_start;  // the start text has been sent
     // What the host receives: the firmware's bytes as sent, or (--baud) as the
     // host's adapter at its own rate decodes them.
+    // Report fields (the contract's report: {fields}): each line is matched
+    // against every pattern; the last match of each gives its value.
+    std::vector<std::regex> field_patterns;
+    if (contract) {
+        for (const auto& f : contract->report_fields) field_patterns.emplace_back(f.pattern);
+    }
+    std::vector<std::optional<double>> field_values(field_patterns.size());
+    std::string field_line;
+    const auto match_fields = [&] {
+        for (std::size_t i = 0; i < field_patterns.size(); ++i) {
+            std::smatch m;
+            if (!std::regex_search(field_line, m, field_patterns[i]) || m.size() < 2) continue;
+            const std::string text = m[1].str();
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            field_values[i] = (end != text.c_str()) ? std::optional<double>(v) : std::nullopt;
+        }
+        field_line.clear();
+    };
+    constexpr std::size_t kMaxFieldLine = 4096;  // a longer line is cut (bounded memory on a flood)
     const auto on_host_byte = [&](const char c) {
         uart_txt.write(std::string_view(&c, 1));
+        if (!field_patterns.empty()) {
+            if (c == '\n') {
+                match_fields();
+            } else if (c != '\r' && field_line.size() < kMaxFieldLine) {
+                field_line.push_back(c);
+            }
+        }
         if (start_watch.feed(c)) {
             start_seen = true;
             if (!started) core.request_stop();  // the run loop sends the start text now
@@ -744,6 +772,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         adapter->flush(settled);
         for (const auto& d : settled) on_host_byte(static_cast<char>(d.value));
     }
+    if (!field_line.empty()) match_fields();  // a last line without '\n'
     result.cycles_total = core.cycle();
     if (vcd) vcd->finish();
     result.wall_seconds =
@@ -918,6 +947,14 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                  {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", reports ? report_json(result.report) : json(nullptr)},
+        {"report_fields", [&] {
+             if (field_patterns.empty()) return json(nullptr);
+             json f = json::object();
+             for (std::size_t i = 0; i < field_patterns.size(); ++i) {
+                 f[contract->report_fields[i].name] = field_values[i] ? json(*field_values[i]) : json(nullptr);
+             }
+             return f;
+         }()},
         {"simavr_log",
          {{"errors", core.log().errors()},
           {"warnings", core.log().warnings()},

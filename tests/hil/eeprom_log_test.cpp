@@ -192,4 +192,32 @@ TEST(EepromLog, DecodesTheFirmwaresLogOfAKnownTurn) {
 }
 
 }  // namespace
+TEST(EepromLog, AContractsLayoutAddressesScalesAndSignedness) {
+    // x bytes at 100.., y bytes at 300.., one byte per sample, 100 counts per metre.
+    hil::EepromImage image{};
+    image.fill(0xFF);
+    image[100] = 200;  // sample 0 x: 200 counts unsigned (2.00 m), -56 signed
+    image[101] = 10;
+    image[300] = 5;
+    image[301] = 250;  // sample 1 y: 250 unsigned, -6 signed (no unwrap)
+    hil::EepromLogLayout l;
+    l.x_address = 100;
+    l.y_address = 300;
+    l.stride = 1;
+    l.counts_per_metre = 100.0;
+    l.unwrap = false;
+    l.sample_period_s = 0.01;
+    EXPECT_EQ(l.max_samples(), 200);  // x bytes below 300
+    auto s = hil::decode_eeprom_log(image, 2, {}, l);
+    ASSERT_EQ(s.size(), 2u);
+    EXPECT_DOUBLE_EQ(s[0].x_m, -0.56);
+    EXPECT_DOUBLE_EQ(s[1].y_m, -0.06);
+    EXPECT_DOUBLE_EQ(s[1].t_s, 0.02);
+    l.is_signed = false;
+    s = hil::decode_eeprom_log(image, 2, {}, l);
+    EXPECT_DOUBLE_EQ(s[0].x_m, 2.0);
+    EXPECT_DOUBLE_EQ(s[1].y_m, 2.5);
+    EXPECT_THROW(hil::decode_eeprom_log(image, 201, {}, l), std::invalid_argument);
+}
+
 }  // namespace ddmr::test

@@ -71,8 +71,14 @@ TEST(SketchContract, RefusesWithFileLineAndKey) {
     EXPECT_EQ(refusal("start:\n  send: \"{case}\"\n  at: 1s\n"),
               "hil.yaml:2: key 'start.send': {case} needs a cases list (e.g. cases: [1, 2])");
     EXPECT_EQ(refusal("complete: {report: true}\n"),
-              "hil.yaml:1: key 'complete.report': needs a report format (report: ddmr-tracking)");
-    EXPECT_EQ(refusal("report: csv\n"), "hil.yaml:1: key 'report': unknown report format 'csv' (none or ddmr-tracking)");
+              "hil.yaml:1: key 'complete.report': needs a report format that knows its end (report: ddmr-tracking); "
+              "fields: use complete.text");
+    EXPECT_EQ(refusal("report: csv\n"), "hil.yaml:1: key 'report': unknown report format 'csv' (none, ddmr-tracking, or fields: {...})");
+    EXPECT_EQ(refusal("report: {fields: {n: \"count [0-9]+\"}}\n"),
+              "hil.yaml:1: key 'report.fields.n': the pattern needs a (group) around the number");
+    EXPECT_NE(refusal("report: {fields: {n: \"(\"}}\n").find("is not a regular expression"), std::string::npos);
+    EXPECT_EQ(refusal("eeprom-log: {x-address: 0, y-address: 500, signed: false, unwrap: true}\n"),
+              "hil.yaml:1: key 'eeprom-log.unwrap': unwrapping starts from a signed first sample: not with signed: false");
     EXPECT_EQ(refusal("pose: {x: a, y: b}\n"), "hil.yaml:1: key 'pose.theta': missing: the float global that holds it");
     EXPECT_EQ(refusal("eeprom-log: {x-address: 0, y-address: 2000}\n"),
               "hil.yaml:1: key 'eeprom-log.y-address': 2000 is outside [0, 1023]");

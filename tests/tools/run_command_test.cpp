@@ -507,7 +507,10 @@ TEST(RunCommand, AnyFirmwareThroughItsSketchContract) {
     EXPECT_EQ(s["exit_reason"], "report_complete");
     EXPECT_EQ(s["protocol"], "contract");
     EXPECT_EQ(s["case"], 4);
-    EXPECT_TRUE(s["firmware_report"].is_null());  // no report format in the contract
+    EXPECT_TRUE(s["firmware_report"].is_null());  // not the ddmr-tracking format ...
+    EXPECT_EQ(s["report_fields"]["px_mm"], 400.0);  // ... but named fields, from the line "400,50"
+    EXPECT_EQ(s["report_fields"]["py_mm"], 50.0);
+    EXPECT_TRUE(s["report_fields"]["missing"].is_null());
     EXPECT_NEAR(s["end_pose_firmware"]["x_m"].get<double>(), 0.4, 1e-5);
     EXPECT_NEAR(s["end_pose_firmware"]["y_m"].get<double>(), 0.05, 1e-5);
     EXPECT_NEAR(s["end_pose_firmware"]["theta_rad"].get<double>(), 0.5, 1e-5);
