@@ -51,6 +51,11 @@ inline constexpr std::array<const char*, kVectorCount> kNames = {
     "TWI",          "SPM_READY"};
 }  // namespace vector
 
+/// True if bit `bit` (0..7) of a register value is set.
+inline constexpr bool bit_set(uint8_t value, int bit) {
+    return ((static_cast<unsigned>(value) >> static_cast<unsigned>(bit)) & 1U) != 0;
+}
+
 /// SREG bit 7: global interrupt enable.
 inline constexpr int kSregI = 7;
 /// Cycles of RETI (and RET) on a device with a 16-bit PC: datasheet

@@ -266,16 +266,16 @@ RunStop AvrCore::run_until(Cycles target) {
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
             for (const auto& h : instruction_hooks_) h.hook();
-            if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
             if (step_watch_ != nullptr) step_watch_(step_watch_context_);
+            if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
         }
         stepping_ = false;
         avr->run_cycle_limit = free_run_limit();
     } else {
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
+            if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // the next instruction, on every path
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
-            if (step_watch_ != nullptr) step_watch_(step_watch_context_);
         }
     }
     avr_cycle_timer_cancel(avr, &on_target, &flag);
@@ -311,6 +311,7 @@ RunStop AvrCore::run_until(Cycles target, const std::function<bool()>& condition
     RunStop stop = RunStop::kReachedCycle;
     while (avr->cycle < target) {
         const int state = avr_run(avr);
+        if (step_watch_ != nullptr) step_watch_(step_watch_context_);
         if (state == cpu_Crashed || state == cpu_Done) {
             stop = state_stop();
             break;
@@ -324,7 +325,6 @@ RunStop AvrCore::run_until(Cycles target, const std::function<bool()>& condition
             stop = RunStop::kCondition;
             break;
         }
-        if (step_watch_ != nullptr) step_watch_(step_watch_context_);
     }
     stepping_ = false;
     avr->run_cycle_limit = free_run_limit();

@@ -91,7 +91,9 @@ public:
     bool has_instruction_hooks() const { return !instruction_hooks_.empty(); }
 
     /// A function called before every instruction (PC at it, registers as it
-    /// will see them) while set; nullptr switches it off. Unlike instruction
+    /// will see them) while set: right after each avr_run, before any stop,
+    /// so no instruction is skipped between run_until calls; nullptr
+    /// switches it off. Unlike instruction
     /// hooks it may be switched on and off from an IRQ callback in the middle
     /// of a run: while it is on, simavr runs one instruction per avr_run
     /// (run_cycle_limit 1, which gives identical results), so a part can

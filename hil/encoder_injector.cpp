@@ -16,7 +16,7 @@ namespace {
 
 namespace reg = atmega328p::reg;
 
-bool bit_set(uint8_t value, int bit) { return ((static_cast<unsigned>(value) >> static_cast<unsigned>(bit)) & 1U) != 0; }
+using atmega328p::bit_set;
 
 /// ISCn1:0 in EICRA (datasheet Table 12-2): 0 low level, 1 any change, 2 falling, 3 rising.
 enum class Sense : uint8_t { low_level = 0, change = 1, falling = 2, rising = 3 };

@@ -13,7 +13,7 @@
 namespace ddmr::hil {
 namespace {
 
-bool bit_of(uint8_t value, int bit) { return ((static_cast<unsigned>(value) >> static_cast<unsigned>(bit)) & 1U) != 0; }
+using atmega328p::bit_set;
 
 uint16_t read16(const AvrCore& core, uint16_t low, uint16_t high) {
     if (low == 0) return 0;
@@ -119,8 +119,8 @@ void PinWaveforms::sample_ports() {
     bool changed = false;
     for (Pin& p : pin_) {
         if (!p.watched) continue;
-        const bool output = bit_of(core_.data(p.info.ddr_register), p.info.bit);
-        const bool port = bit_of(core_.data(p.info.port_register), p.info.bit);
+        const bool output = bit_set(core_.data(p.info.ddr_register), p.info.bit);
+        const bool port = bit_set(core_.data(p.info.port_register), p.info.bit);
         const PinMode mode = output ? PinMode::output : (port ? PinMode::input_pullup : PinMode::input_floating);
         if (mode != p.mode || port != p.port_bit) changed = true;
         p.mode = mode;

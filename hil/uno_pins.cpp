@@ -85,6 +85,11 @@ std::string uno_pin_label(int number) {
     return "D" + std::to_string(number);
 }
 
+std::string sketch_pin_name(int number) {
+    if (number >= 14) return uno_pin_label(number);
+    return std::to_string(number);
+}
+
 std::string oc_name(const OcChannel& oc) {
     return "OC" + std::to_string(oc.timer) + (oc.channel == 0 ? "A" : "B");
 }

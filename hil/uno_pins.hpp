@@ -48,6 +48,9 @@ std::optional<int> parse_uno_pin_name(const std::string& name);
 /// Silkscreen name: 0..13 as "D13", 14..19 as "A0".."A5".
 std::string uno_pin_label(int number);
 
+/// The name a sketch gives the pin: 0..13 as "13", 14..19 as "A0".."A5".
+std::string sketch_pin_name(int number);
+
 /// Name of the OC unit, "OC1B".
 std::string oc_name(const OcChannel& oc);
 

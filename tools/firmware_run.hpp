@@ -54,7 +54,7 @@
 #include "hil/loop_profiler.hpp"
 #include "hil/uart_link.hpp"
 #include "plant/diff_drive_kinematics.hpp"
-#include "plant/l298_driver.hpp"
+#include "plant/bridge_driver.hpp"
 
 namespace ddmr::tools {
 

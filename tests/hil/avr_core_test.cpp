@@ -22,6 +22,29 @@ TEST(AvrCore, RunsToTheRequestedCycle) {
     EXPECT_NEAR(core.seconds(), 0.0625, 1e-6);
 }
 
+// The step watch sees every instruction once, however the run is cut into
+// run_until calls: 200,000 cycles in one call and in 1000 calls of 200 cycles
+// (stops land mid-batch, as the coupler's do) give the same count, and the
+// watch switched off returns the core to batched running.
+TEST(AvrCore, TheStepWatchSeesEveryInstructionAcrossRunUntilCalls) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    const auto count = [&](hil::Cycles chunk) {
+        hil::AvrCore core(elf);
+        uint64_t calls = 0;
+        core.set_step_watch([](void* n) { ++*static_cast<uint64_t*>(n); }, &calls);
+        for (hil::Cycles c = chunk; c <= 200'000; c += chunk) core.run_until(c);
+        core.set_step_watch(nullptr, nullptr);
+        const uint64_t before = calls;
+        core.run_until(300'000);
+        EXPECT_EQ(calls, before);  // off: never called
+        EXPECT_GE(core.cycle(), 300'000u);
+        return calls;
+    };
+    const uint64_t whole = count(200'000);
+    EXPECT_GT(whole, 40'000u);  // an instruction takes 1..5 cycles
+    EXPECT_EQ(count(200), whole);
+}
+
 TEST(AvrCore, SetupReturnsFromItsFiveSecondDelay) {
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core(elf);

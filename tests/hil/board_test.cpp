@@ -82,6 +82,9 @@ TEST(UnoPins, SilkscreenNamesMapToPortsTimersAndInterrupts) {
     EXPECT_EQ(*hil::parse_uno_pin_name("D7"), 7);
     EXPECT_FALSE(hil::parse_uno_pin_name("A6").has_value());  // Nano: analog only
     EXPECT_FALSE(hil::parse_uno_pin_name("20").has_value());
+    EXPECT_EQ(hil::uno_pin_label(5), "D5");
+    EXPECT_EQ(hil::sketch_pin_name(5), "5");  // as a sketch writes it
+    EXPECT_EQ(hil::sketch_pin_name(14), "A0");
     EXPECT_FALSE(hil::parse_uno_pin_name("x").has_value());
 }
 

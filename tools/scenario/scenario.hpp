@@ -18,7 +18,7 @@
 #include "hil/eeprom_write_timing.hpp"
 #include "hil/firmware_variables.hpp"
 #include "hil/board.hpp"
-#include "plant/l298_driver.hpp"
+#include "plant/bridge_driver.hpp"
 #include "plant/robot_params.hpp"
 
 namespace ddmr::hil {

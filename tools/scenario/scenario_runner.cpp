@@ -344,9 +344,8 @@ private:
             if (pins.timer_driven(pin)) return pins.level_at(pin, core().cycle());
         }
         const hil::UnoPin p = *hil::uno_pin(pin);  // the step's pin was checked when the scenario was loaded
-        const auto bit = static_cast<unsigned>(p.bit);
-        const bool output = ((static_cast<unsigned>(core().data(p.ddr_register)) >> bit) & 1U) != 0;
-        return ((static_cast<unsigned>(core().data(output ? p.port_register : p.pin_register)) >> bit) & 1U) != 0;
+        const bool output = chip::bit_set(core().data(p.ddr_register), p.bit);
+        return chip::bit_set(core().data(output ? p.port_register : p.pin_register), p.bit);
     }
     std::string run_step(const WaitPin& w) {
         const Cycles start = core().cycle();
