@@ -1,19 +1,16 @@
 #pragma once
-// Facts about the ATmega328P on the Arduino Uno that the HIL relies on.
-// One named definition each; every other file refers to these.
+// Facts about the ATmega328P that the HIL relies on, one named definition
+// each; hil/mcu_atmega328p.cpp makes them the chip's McuDescription, which
+// the parts read. The clock is the board's (hil/board_description.cpp).
 // Addresses are AVR data-space addresses (I/O address + 0x20), as simavr uses.
 // Source: ATmega328P datasheet (DS40002061B), register summary and memory map.
 
 #include <array>
 #include <cstdint>
 
-#include "plant/pwm_waveform.hpp"
-
 namespace ddmr::hil::atmega328p {
 
 inline constexpr const char* kMcuName = "atmega328p";
-/// Uno crystal [Hz]: the plant's PWM timing uses the same one definition.
-inline constexpr uint32_t kClockHz = static_cast<uint32_t>(plant::kCpuHz);
 inline constexpr uint32_t kFlashBytes = 32 * 1024;
 inline constexpr uint32_t kSramBytes = 2 * 1024;
 inline constexpr uint16_t kSramStart = 0x0100;      ///< first SRAM address (after the I/O space)
@@ -73,8 +70,10 @@ inline constexpr uint16_t kPinB = 0x23;
 inline constexpr uint16_t kDdrB = 0x24;
 inline constexpr uint16_t kPortB = 0x25;
 inline constexpr uint16_t kPinC = 0x26;
+inline constexpr uint16_t kDdrC = 0x27;
 inline constexpr uint16_t kPortC = 0x28;
 inline constexpr uint16_t kPinD = 0x29;
+inline constexpr uint16_t kDdrD = 0x2A;
 inline constexpr uint16_t kPortD = 0x2B;
 inline constexpr uint16_t kPcifr = 0x3B;  ///< PCIF0..2 = bits 0..2
 inline constexpr uint16_t kEifr = 0x3C;   ///< INTF0 = bit 0, INTF1 = bit 1
@@ -105,6 +104,7 @@ inline constexpr uint16_t kUcsr0B = 0xC1;
 inline constexpr uint16_t kUcsr0C = 0xC2;
 inline constexpr uint16_t kUbrr0L = 0xC4;
 inline constexpr uint16_t kUbrr0H = 0xC5;
+inline constexpr uint16_t kUdr0 = 0xC6;
 }  // namespace reg
 
 /// MCUSR bit: the last reset was the watchdog's.
@@ -131,6 +131,7 @@ inline constexpr int kEerie = 3;  ///< EEPROM ready interrupt enable
 namespace uart_bit {
 inline constexpr int kU2x0 = 1;    ///< UCSR0A: double speed
 inline constexpr int kUcsz02 = 2;  ///< UCSR0B: 9-bit frames
+inline constexpr int kRxen0 = 4;   ///< UCSR0B: receiver enable
 inline constexpr int kUcsz00 = 1;  ///< UCSR0C: character size, 2 bits
 inline constexpr int kUsbs0 = 3;   ///< UCSR0C: 2 stop bits
 inline constexpr int kUpm00 = 4;   ///< UCSR0C: parity mode, 2 bits (0 = none)

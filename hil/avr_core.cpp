@@ -41,17 +41,17 @@ struct FirmwareBuffers {
 /// can take it: simavr's avr_loadcode() abort()s on a program that does not
 /// fit, and ElfImage checks the sections while the loader's own layout
 /// decides (found by tests/fuzz/elf_loader_fuzz.cpp on a damaged section table).
-void read_loadable(const ElfImage& elf, FirmwareBuffers& buffers) {
+void read_loadable(const ElfImage& elf, const McuDescription& mcu, FirmwareBuffers& buffers) {
     const std::string path = elf.path().string();
     if (elf_read_firmware(path.c_str(), &buffers.fw) != 0) {
         throw std::runtime_error("firmware " + path + ": simavr's ELF loader could not read it");
     }
     const uint64_t end = static_cast<uint64_t>(buffers.fw.flashbase) + buffers.fw.flashsize;
-    if (end > atmega328p::kFlashBytes) {
+    if (end > mcu.flash_bytes) {
         throw std::runtime_error(fmt::format(
             "firmware {}: simavr's ELF loader places {} bytes of program at 0x{:04x}, past the "
-            "ATmega328P's {}-byte flash",
-            path, buffers.fw.flashsize, buffers.fw.flashbase, atmega328p::kFlashBytes));
+            "{}'s {}-byte flash",
+            path, buffers.fw.flashsize, buffers.fw.flashbase, mcu.label, mcu.flash_bytes));
     }
 }
 
@@ -107,12 +107,12 @@ void AvrCore::AvrDeleter::operator()(avr_t* avr) const {
     std::free(avr);
 }
 
-void AvrCore::check_loadable(const ElfImage& elf) {
+void AvrCore::check_loadable(const ElfImage& elf, const McuDescription& mcu) {
     install_simavr_logger();
     SimavrLog loader_log;  // the loader's messages: not for stderr, the core's run reports them
     const LoadingLogScope scope(&loader_log);
     FirmwareBuffers buffers;
-    read_loadable(elf, buffers);
+    read_loadable(elf, mcu, buffers);
 }
 
 void AvrCore::widen_data_space(avr_t* avr) {
@@ -132,28 +132,29 @@ void AvrCore::widen_data_space(avr_t* avr) {
     avr->data = data;
 }
 
-AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config) : elf_(elf), config_(config) {
-    if (config_.clock_hz == 0) throw std::invalid_argument("AvrCore: clock_hz must be > 0");
+AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config)
+    : elf_(elf), config_(config), board_(board_description(config.board)) {
     if (config_.run_cycle_limit == 0) {
         throw std::invalid_argument("AvrCore: run_cycle_limit must be >= 1");
     }
     install_simavr_logger();
     const LoadingLogScope scope(&log_);
 
-    avr_.reset(avr_make_mcu_by_name(atmega328p::kMcuName));
-    if (!avr_) throw std::runtime_error("simavr has no ATmega328P core");
+    const McuDescription& chip = mcu();
+    avr_.reset(avr_make_mcu_by_name(chip.name));
+    if (!avr_) throw std::runtime_error(fmt::format("simavr has no {} core", chip.label));
     avr_t* avr = avr_.get();
     avr->custom.data = &log_;  // routes this instance's log (see simavr_log.cpp)
-    if (avr_init(avr) != 0) throw std::runtime_error("simavr could not initialise the ATmega328P");
+    if (avr_init(avr) != 0) throw std::runtime_error(fmt::format("simavr could not initialise the {}", chip.label));
     widen_data_space(avr);
 
     FirmwareBuffers buffers;
-    read_loadable(elf_, buffers);
+    read_loadable(elf_, chip, buffers);
     const std::string path = elf_.path().string();
-    buffers.fw.frequency = config_.clock_hz;
-    std::snprintf(buffers.fw.mmcu, sizeof buffers.fw.mmcu, "%s", atmega328p::kMcuName);
+    buffers.fw.frequency = clock_hz();
+    std::snprintf(buffers.fw.mmcu, sizeof buffers.fw.mmcu, "%s", chip.name);
     avr_load_firmware(avr, &buffers.fw);
-    avr->frequency = config_.clock_hz;
+    avr->frequency = clock_hz();
     avr->log = SimavrLog::kLevelWarning;
 
     apply_setup();
@@ -170,7 +171,7 @@ RunStop AvrCore::take_event() {
         // the reset here, with the parts re-armed, and flag it as the chip does.
         avr_->run = normal_run_;
         reset();
-        avr_->data[atmega328p::reg::kMcusr] |= atmega328p::kWdrf;
+        avr_->data[mcu().mcusr] |= atmega328p::kWdrf;
         ++watchdog_resets_;
         return RunStop::kWatchdogReset;
     }
@@ -183,10 +184,11 @@ RunStop AvrCore::take_event() {
 void AvrCore::apply_setup() {
     avr_t* avr = avr_.get();
     uint32_t uart_flags = 0;  // no stdio echo, no poll-sleep
-    avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &uart_flags);
+    for (const UsartDesc& u : mcu().usarts) {
+        avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS(static_cast<char>('0' + u.index)), &uart_flags);
+    }
     avr->sleep = &no_wall_clock_sleep;
-    avr_extint_set_strict_lvl_trig(avr, 0, 0);
-    avr_extint_set_strict_lvl_trig(avr, 1, 0);
+    for (std::size_t n = 0; n < mcu().ext_int_pins.size(); ++n) avr_extint_set_strict_lvl_trig(avr, static_cast<uint8_t>(n), 0);
     avr->run_cycle_limit = free_run_limit();
 }
 
@@ -237,8 +239,7 @@ AvrCore::~AvrCore() = default;
 Cycles AvrCore::cycle() const { return avr_->cycle; }
 uint32_t AvrCore::pc() const { return avr_->pc; }
 uint16_t AvrCore::stack_pointer() const {
-    return static_cast<uint16_t>(avr_->data[atmega328p::reg::kSpl] |
-                                 (avr_->data[atmega328p::reg::kSph] << 8));
+    return static_cast<uint16_t>(avr_->data[mcu().spl] | (avr_->data[mcu().sph] << 8));
 }
 uint8_t AvrCore::data(uint16_t address) const {
     if (address > avr_->ramend) {
@@ -374,7 +375,7 @@ avr_cycle_count_t on_return_sample(avr_t* /*avr*/, avr_cycle_count_t when, void*
         if (pc < w->begin || pc >= w->end) return when + AvrCore::kReturnSamplePeriod;
         // CALL pushed the return word address high byte at SP+1, low at SP+2
         // (as seen after the push). Find the lowest such slot above SP.
-        for (uint32_t a = sp + 1U; a + 1 <= atmega328p::kRamEnd; ++a) {
+        for (uint32_t a = sp + 1U; a + 1 <= core.mcu().ram_end; ++a) {
             const uint32_t ret_word = (static_cast<uint32_t>(core.data(static_cast<uint16_t>(a))) << 8) |
                                       core.data(static_cast<uint16_t>(a + 1));
             if (follows_call_to(core, ret_word * 2, w->begin)) {

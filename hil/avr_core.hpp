@@ -1,10 +1,11 @@
 #pragma once
-// AvrCore: one simavr ATmega328P instance running one firmware ELF, owned
+// AvrCore: one simavr MCU instance on one Arduino board (the board's MCU and
+// clock, hil/board_description.hpp) running one firmware ELF, owned
 // RAII-style (simavr 1.6's avr_terminate frees neither the avr_t nor the ELF
 // loader's buffers; this class frees all of them).
 //
 // Set-up applied at construction (see ../shared/SIMAVR_NOTES.md):
-//   - 16 MHz clock set before the firmware is loaded (avr_init leaves 1 MHz);
+//   - the board's clock set before the firmware is loaded (avr_init leaves 1 MHz);
 //   - UART stdio and poll-sleep flags off; no wall-clock sleep callback;
 //   - INT0/INT1 strict level triggering off (its 1-cycle poll costs 4x speed);
 //   - simavr's log routed to this instance's SimavrLog;
@@ -18,6 +19,7 @@
 #include <memory>
 #include <vector>
 
+#include "hil/board_description.hpp"
 #include "hil/cycle_time.hpp"
 #include "hil/elf_image.hpp"
 #include "hil/simavr_log.hpp"
@@ -27,7 +29,8 @@ struct avr_t;
 namespace ddmr::hil {
 
 struct AvrCoreConfig {
-    uint32_t clock_hz = atmega328p::kClockHz;  ///< [Hz] the Uno's crystal
+    /// The board: its MCU (the simavr core), its clock, its pins.
+    BoardModel board = BoardModel::uno;
     /// Maximum cycles simavr executes between checks for timers and interrupts
     /// when nothing is due sooner. Any value >= 1 gives identical results; a
     /// large one is faster. simavr's own default is 1.
@@ -51,14 +54,14 @@ const char* to_string(RunStop stop);
 
 class AvrCore {
 public:
-    /// Loads `elf` (already validated with ElfImage::require_atmega328p()) into a
-    /// fresh ATmega328P. Throws std::runtime_error if simavr cannot load it.
+    /// Loads `elf` (already validated with ElfImage::require_mcu()) into a
+    /// fresh MCU of the board. Throws std::runtime_error if simavr cannot load it.
     explicit AvrCore(const ElfImage& elf, const AvrCoreConfig& config = {});
 
     /// Checks, without building a core, that simavr's own ELF loader reads
     /// `elf` and lays its program out inside the flash (what the constructor
     /// needs); throws std::runtime_error naming the file otherwise.
-    static void check_loadable(const ElfImage& elf);
+    static void check_loadable(const ElfImage& elf, const McuDescription& mcu);
     ~AvrCore();
     AvrCore(const AvrCore&) = delete;
     AvrCore& operator=(const AvrCore&) = delete;
@@ -67,8 +70,11 @@ public:
     avr_t* raw() { return avr_.get(); }
     const ElfImage& elf() const { return elf_; }
     Cycles cycle() const;
-    uint32_t clock_hz() const { return config_.clock_hz; }
-    double seconds() const { return cycles_to_s(cycle(), config_.clock_hz); }
+    const BoardDescription& board() const { return board_; }
+    const McuDescription& mcu() const { return *board_.mcu; }
+    /// The board's clock [Hz]: every conversion between cycles and seconds uses it.
+    uint32_t clock_hz() const { return board_.clock_hz; }
+    double seconds() const { return cycles_to_s(cycle(), clock_hz()); }
     /// Program counter as a flash byte address.
     uint32_t pc() const;
     uint16_t stack_pointer() const;
@@ -157,6 +163,7 @@ private:
 
     ElfImage elf_;
     AvrCoreConfig config_;
+    const BoardDescription& board_;
     SimavrLog log_;
     std::unique_ptr<avr_t, AvrDeleter> avr_;
     bool stop_requested_ = false;

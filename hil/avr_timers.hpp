@@ -49,9 +49,9 @@ struct WaveformMode {
     bool com01_toggles_a = false;
 };
 
-/// An output-compare pin: port letter and bit (OCnx reaches the pin only
-/// while the pin's DDR bit is set).
-struct OcPin {
+/// A pin of the chip: port letter and bit (an OCnx pin gets its waveform
+/// only while the pin's DDR bit is set).
+struct PortBit {
     char port = 'B';
     uint8_t bit = 0;
 };
@@ -77,7 +77,7 @@ struct TimerDesc {
     /// Number of WGM modes: 8 (WGMn2:0, Timer0/2) or 16 (WGM13:0, Timer1).
     int wgm_modes = 8;
     std::array<WaveformMode, 16> modes{};  ///< indexed by WGM (only wgm_modes used)
-    std::array<OcPin, 2> pins{};           ///< OCnA, OCnB
+    std::array<PortBit, 2> pins{};           ///< OCnA, OCnB
 
     /// MAX: the counter's largest value [counts].
     [[nodiscard]] constexpr uint32_t max() const { return (uint32_t{1} << bits) - 1U; }
@@ -138,8 +138,8 @@ constexpr std::array<WaveformMode, 16> modes_16bit() {
     return m;
 }
 
-constexpr OcPin pin(char port, uint8_t bit) {
-    OcPin p;
+constexpr PortBit pin(char port, uint8_t bit) {
+    PortBit p;
     p.port = port;
     p.bit = bit;
     return p;

@@ -9,7 +9,6 @@
 #include <set>
 #include <stdexcept>
 
-#include "hil/uno_pins.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -65,12 +64,16 @@ std::string encoder_key(const EncoderWiring& e, std::size_t m, unsigned s) {
     return fmt::format("wheels.{}.encoder.{}", wheel_name(m), encoder_signal_key(e, s));
 }
 
-/// Pins 0 and 1 carry the UART the host adapter talks through.
-void check_pin(const std::string& source, int line, const std::string& key, int pin) {
-    if (!uno_pin(pin)) fail(source, line, key, fmt::format("the board has no pin {} (pins 0..13, A0..A5)", pin));
-    if (pin == 0 || pin == 1) {
-        fail(source, line, key, fmt::format("pin {} carries the UART ({}); the host serial adapter needs it", pin,
-                                            pin == 0 ? "RX" : "TX"));
+/// The console USART's pins (0 and 1) carry the serial line the host adapter talks through.
+void check_pin(const BoardDescription& desc, const std::string& source, int line, const std::string& key, int pin) {
+    if (!board_pin(desc, pin)) {
+        fail(source, line, key, fmt::format("the {} has no pin {} (pins {})", desc.label, pin, pin_range(desc)));
+    }
+    for (const auto& [at, name] : {std::pair{desc.console().rxd, "RX"}, std::pair{desc.console().txd, "TX"}}) {
+        if (pin_number_of(desc, at) == pin) {
+            fail(source, line, key,
+                 fmt::format("pin {} carries the UART ({}); the host serial adapter needs it", pin, name));
+        }
     }
 }
 
@@ -88,12 +91,6 @@ const char* role_key(DriverRole r) {
     }
     return "?";
 }
-
-const char* board_fqbn(BoardModel model) {
-    return model == BoardModel::nano ? "arduino:avr:nano:cpu=atmega328" : "arduino:avr:uno";
-}
-
-const char* board_key(BoardModel model) { return model == BoardModel::nano ? "nano" : "uno"; }
 
 const char* wheel_name(std::size_t m) { return m == 0 ? "right" : "left"; }
 
@@ -125,6 +122,7 @@ BoardWiring default_board() {
 
 void validate(const BoardWiring& board) {
     const std::string& src = board.source;
+    const BoardDescription& desc = board_description(board.model);
     struct Use {
         std::string key;
         std::size_t wheel;
@@ -133,7 +131,7 @@ void validate(const BoardWiring& board) {
     };
     std::map<int, Use> used;
     const auto claim = [&](int pin, int line, const Use& u) {
-        check_pin(src, line, u.key, pin);
+        check_pin(desc, src, line, u.key, pin);
         const auto [it, fresh] = used.emplace(pin, u);
         if (fresh) return;
         const Use& first = it->second;
@@ -149,11 +147,11 @@ void validate(const BoardWiring& board) {
             const InputWire& in = w[r];
             if (!in.used || in.tied_high) continue;
             claim(in.pin, in.line, Use{motor_key(m, r), m, r, contains(spec.shared, r)});
-            if (contains(spec.pwm_only, r) && !uno_pin(in.pin)->oc) {
+            if (contains(spec.pwm_only, r) && !board_pin(desc, in.pin)->oc) {
                 fail(src, in.line, motor_key(m, r),
                      fmt::format("pin {} has no timer output, so analogWrite gives only LOW or HIGH there; the "
-                                 "PWM pins are 3, 5, 6, 9, 10 and 11",
-                                 in.pin));
+                                 "PWM pins are {}",
+                                 in.pin, pwm_pin_list(desc)));
             }
         }
     }
@@ -181,13 +179,21 @@ std::vector<int> wired_pins(const BoardWiring& board) {
 namespace {
 
 struct Reader : YamlReader {
+    const BoardDescription* desc = &board_description(BoardModel::uno);
+
     int pin(const YAML::Node& n, const std::string& key) const {
-        if (!n.IsScalar()) fail(n, key, "expected a pin: 0..13 or A0..A5");
-        const auto p = parse_uno_pin_name(n.Scalar());
+        if (!n.IsScalar()) fail(n, key, fmt::format("expected a pin: {}", pin_range(*desc)));
+        const auto p = parse_pin_name(*desc, n.Scalar());
         if (!p) {
             const std::string& s = n.Scalar();
-            if (s == "A6" || s == "A7") fail(n, key, fmt::format("{} is an analog-only input on the Nano, not a digital pin", s));
-            fail(n, key, fmt::format("'{}' is not a pin of the board (pins 0..13, A0..A5, or 14..19)", s));
+            for (const char* analog : desc->analog_only) {
+                if (s == analog) {
+                    fail(n, key, fmt::format("{} is an analog-only input of the {} (no port bit), not a digital pin",
+                                             s, desc->label));
+                }
+            }
+            fail(n, key, fmt::format("'{}' is not a pin of the {} (pins {}, or {}..{})", s, desc->label,
+                                     pin_range(*desc), desc->analog0, desc->pin_count() - 1));
         }
         return *p;
     }
@@ -269,7 +275,7 @@ struct Reader : YamlReader {
 BoardWiring load_board_file(const std::filesystem::path& path) {
     const std::string source = path.string();
     const YAML::Node root = YamlReader::load(path, "the board file");
-    const Reader r{{source}};
+    Reader r{{source}};
     if (!root.IsMap()) r.fail(root, "board", "a board file is a mapping with the keys board and wheels");
     r.only_keys(root, "", {"board", "wheels"});
     BoardWiring b;
@@ -280,10 +286,10 @@ BoardWiring load_board_file(const std::filesystem::path& path) {
             r.fail(n, "board", "the old wiring format (motor1/enable_pin, ...) is gone: write board: uno and a "
                                "wheels: section (docs/boards.md)");
         }
-        const std::string& v = n.Scalar();
-        if (v == "uno") b.model = BoardModel::uno;
-        else if (v == "nano") b.model = BoardModel::nano;
-        else r.fail(n, "board", fmt::format("unknown board '{}' (uno or nano)", v));
+        const auto model = parse_board_key(n.Scalar());
+        if (!model) r.fail(n, "board", fmt::format("unknown board '{}' ({})", n.Scalar(), board_key_list()));
+        b.model = *model;
+        r.desc = &board_description(b.model);
     }
     if (!root["wheels"]) r.fail(root, "wheels", "missing: the left and right wheels' motor and encoder wiring");
     const YAML::Node wheels = r.mapping(root["wheels"], "wheels");

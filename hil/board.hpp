@@ -6,7 +6,7 @@
 //
 // File form (docs/boards.md documents every key; `--board FILE`, or a
 // scenario's `board:` key):
-//   board: uno                       # uno (default) or nano
+//   board: uno                       # uno (default), nano, pro-mini-8mhz (hil/board_description.hpp)
 //   wheels:
 //     right:                         # motor 1, encoder 1 (plant sections motor1/encoder1)
 //       motor:   {driver: dir-pwm, PWM: 10, DIR: 12}
@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "hil/board_description.hpp"
 #include "plant/motor_driver.hpp"
 
 namespace ddmr::hil {
@@ -37,7 +38,7 @@ const char* role_key(DriverRole r);
 struct InputWire {
     bool used = false;       ///< the driver type has this input
     bool tied_high = false;  ///< `high`: a jumper or pull-up to Vcc, no pin
-    int pin = -1;            ///< 0..19 when a pin drives it
+    int pin = -1;            ///< the board's pin number when a pin drives it
     int line = 0;            ///< board-file line (0: not from a file)
 };
 
@@ -67,20 +68,12 @@ struct WheelWiring {
     EncoderWiring encoder;
 };
 
-enum class BoardModel : uint8_t { uno, nano };
-
 struct BoardWiring {
     BoardModel model = BoardModel::uno;
     /// [0]: the right wheel (motor 1, encoder 1), [1]: the left wheel (motor 2, encoder 2).
     std::array<WheelWiring, 2> wheel{};
     std::string source = "built-in default board";  ///< the file it came from (messages)
 };
-
-/// The Arduino FQBN a sketch is built with for this board: arduino:avr:uno,
-/// arduino:avr:nano:cpu=atmega328 (the same ATmega328P at 16 MHz).
-const char* board_fqbn(BoardModel model);
-/// "uno", "nano".
-const char* board_key(BoardModel model);
 
 /// "right" (index 0) or "left" (1).
 const char* wheel_name(std::size_t m);
@@ -97,7 +90,7 @@ const char* encoder_signal_key(const EncoderWiring& e, unsigned signal);
 BoardWiring default_board();
 
 /// Throws std::invalid_argument "SOURCE:LINE: key 'K': what is wrong" for a
-/// pin the board lacks, the UART pins, a pin used twice (one dual module's
+/// pin the board lacks, the console UART's pins (0 and 1), a pin used twice (one dual module's
 /// shared STBY/SLEEP excepted), a PWM input on a pin without a timer output.
 void validate(const BoardWiring& board);
 

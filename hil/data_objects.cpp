@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <tuple>
 
-#include "hil/atmega328p.hpp"
-
 namespace ddmr::hil {
 
-DataObjects::DataObjects(const ElfImage& elf) : index_(atmega328p::kRamEnd + 1U - atmega328p::kSramStart, kNone) {
+DataObjects::DataObjects(const ElfImage& elf, const McuDescription& mcu)
+    : sram_start_(mcu.sram_start), ram_end_(mcu.ram_end), index_(mcu.ram_end + 1U - mcu.sram_start, kNone) {
     std::vector<const ElfSymbol*> candidates;
     for (const ElfSymbol& s : elf.symbols()) {
         if (!s.is_object || s.in_text || s.size == 0) continue;
-        if (s.address < atmega328p::kSramStart || s.address + s.size - 1 > atmega328p::kRamEnd) continue;
+        if (s.address < sram_start_ || s.address + s.size - 1 > ram_end_) continue;
         candidates.push_back(&s);
     }
     std::sort(candidates.begin(), candidates.end(), [](const ElfSymbol* a, const ElfSymbol* b) {
@@ -19,7 +18,7 @@ DataObjects::DataObjects(const ElfImage& elf) : index_(atmega328p::kRamEnd + 1U 
                std::make_tuple(b->address, -static_cast<int64_t>(b->size), b->name);
     });
     for (const ElfSymbol* s : candidates) {
-        const std::size_t first = s->address - atmega328p::kSramStart;
+        const std::size_t first = s->address - sram_start_;
         const bool free = std::all_of(index_.begin() + static_cast<std::ptrdiff_t>(first),
                                       index_.begin() + static_cast<std::ptrdiff_t>(first + s->size),
                                       [](uint16_t v) { return v == kNone; });
@@ -33,8 +32,8 @@ DataObjects::DataObjects(const ElfImage& elf) : index_(atmega328p::kRamEnd + 1U 
 }
 
 std::optional<std::size_t> DataObjects::at(uint16_t address) const {
-    if (address < atmega328p::kSramStart || address > atmega328p::kRamEnd) return std::nullopt;
-    const uint16_t id = index_[address - atmega328p::kSramStart];
+    if (address < sram_start_ || address > ram_end_) return std::nullopt;
+    const uint16_t id = index_[address - sram_start_];
     if (id == kNone) return std::nullopt;
     return id;
 }

@@ -27,7 +27,8 @@ struct DataObject {
 
 class DataObjects {
 public:
-    explicit DataObjects(const ElfImage& elf);
+    /// The variables of `elf` inside `mcu`'s SRAM.
+    DataObjects(const ElfImage& elf, const McuDescription& mcu);
 
     const std::vector<DataObject>& all() const { return objects_; }
     const DataObject& operator[](std::size_t i) const { return objects_[i]; }
@@ -39,6 +40,8 @@ public:
 
 private:
     static constexpr uint16_t kNone = 0xFFFF;
+    uint16_t sram_start_ = 0;
+    uint16_t ram_end_ = 0;
     std::vector<DataObject> objects_;
     std::vector<std::string> raw_names_;
     std::vector<uint16_t> index_;  ///< per SRAM byte: object index or kNone

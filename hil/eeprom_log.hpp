@@ -95,7 +95,7 @@ struct EepromLogTiming {
 /// 2k, timed by its latest write. Throws std::invalid_argument naming the
 /// sample if some sample below the highest one was never written.
 EepromLogTiming eeprom_log_timing(const std::vector<EepromWrite>& writes, Cycles origin_cycle,
-                                  uint32_t clock_hz = atmega328p::kClockHz, const EepromLogLayout& layout = {});
+                                  uint32_t clock_hz, const EepromLogLayout& layout = {});
 
 /// CSV with header "sample,t_s,x_m,y_m" and one row per sample, fixed
 /// precision (6 decimals), locale-independent: the same samples give the same

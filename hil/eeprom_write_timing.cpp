@@ -18,19 +18,21 @@ static_assert(std::is_same_v<avr_cycle_count_t, uint64_t>,
 constexpr uint8_t bit_mask(int bit) { return static_cast<uint8_t>(1U << bit); }
 constexpr uint8_t kEepe = bit_mask(atmega328p::eecr_bit::kEepe);
 constexpr uint8_t kEempe = bit_mask(atmega328p::eecr_bit::kEempe);
-/// EEAR is 10 bits on the ATmega328P (datasheet 8.6.1); simavr wraps an
-/// address past the end the same way.
-constexpr uint16_t kEearMask = atmega328p::kEepromBytes - 1;
-static_assert((atmega328p::kEepromBytes & kEearMask) == 0, "EEPROM size is a power of two");
 
 }  // namespace
 
 EepromWriteTiming::EepromWriteTiming(AvrCore& core, EepromTimingMode mode)
     : core_(core),
       mode_(mode),
-      write_cycles_(mode == EepromTimingMode::kDatasheet ? eeprom_write_cycles(core.clock_hz()) : 0) {
+      write_cycles_(mode == EepromTimingMode::kDatasheet ? eeprom_write_cycles(core.clock_hz()) : 0),
+      eecr_(core.mcu().eecr),
+      eear_mask_(static_cast<uint16_t>(core.mcu().eeprom_bytes - 1)),
+      latest_(core.mcu().eeprom_bytes),
+      written_(core.mcu().eeprom_bytes, 0) {
+    const uint32_t bytes = core.mcu().eeprom_bytes;
+    if (bytes == 0 || (bytes & (bytes - 1)) != 0) throw std::logic_error("EepromWriteTiming: EEPROM size not a power of two");
     writes_.reserve(kReservedWrites);
-    eecr_irq_ = avr_iomem_getirq(core_.raw(), atmega328p::reg::kEecr, nullptr, AVR_IOMEM_IRQ_ALL);
+    eecr_irq_ = avr_iomem_getirq(core_.raw(), eecr_, nullptr, AVR_IOMEM_IRQ_ALL);
     if (eecr_irq_ == nullptr) throw std::runtime_error("simavr has no IRQ for EECR");
     avr_irq_register_notify(eecr_irq_, &EepromWriteTiming::on_eecr, this);
     // A reset clears EECR and cancels the completion timer: the write in
@@ -48,7 +50,7 @@ EepromWriteTiming::~EepromWriteTiming() {
 void EepromWriteTiming::on_eecr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     auto* self = static_cast<EepromWriteTiming*>(param);
     const auto written = static_cast<uint8_t>(value);
-    const uint8_t now = self->core_.raw()->data[atmega328p::reg::kEecr];
+    const uint8_t now = self->core_.raw()->data[self->eecr_];
     if ((written & (kEempe | kEepe)) == (kEempe | kEepe) && (now & kEempe) == 0) {
         self->start_write();
     } else if (self->busy_) {
@@ -63,9 +65,9 @@ void EepromWriteTiming::start_write() {
     const Cycles now = avr->cycle;
     EepromWrite w;
     w.cycle = now;
-    w.address = static_cast<uint16_t>(
-        (avr->data[atmega328p::reg::kEearL] | (avr->data[atmega328p::reg::kEearH] << 8)) & kEearMask);
-    w.value = avr->data[atmega328p::reg::kEedr];
+    const McuDescription& mcu = core_.mcu();
+    w.address = static_cast<uint16_t>((avr->data[mcu.eearl] | (avr->data[mcu.eearh] << 8)) & eear_mask_);
+    w.value = avr->data[mcu.eedr];
     ++write_count_;
     if (writes_.size() < kMaxRecordedWrites) writes_.push_back(w);  // reserve, or amortised growth
     latest_[w.address] = w;
@@ -103,10 +105,10 @@ uint64_t EepromWriteTiming::on_write_done(avr_t* /*avr*/, uint64_t when, void* p
     return 0;  // one-shot
 }
 
-void EepromWriteTiming::hold_eepe() { core_.raw()->data[atmega328p::reg::kEecr] |= kEepe; }
+void EepromWriteTiming::hold_eepe() { core_.raw()->data[eecr_] |= kEepe; }
 
 void EepromWriteTiming::release_eepe() {
-    uint8_t& eecr = core_.raw()->data[atmega328p::reg::kEecr];
+    uint8_t& eecr = core_.raw()->data[eecr_];
     eecr = static_cast<uint8_t>(eecr & ~kEepe);
 }
 

@@ -50,13 +50,13 @@ namespace ddmr::hil {
 
 /// CPU cycles of one EEPROM write at `clock_hz` (rounded to the nearest cycle):
 /// kEepromWriteRcCycles of the 8 MHz calibrated RC oscillator (Table 8-2).
-constexpr Cycles eeprom_write_cycles(uint32_t clock_hz = atmega328p::kClockHz) {
+constexpr Cycles eeprom_write_cycles(uint32_t clock_hz) {
     return (static_cast<Cycles>(atmega328p::kEepromWriteRcCycles) * clock_hz +
             atmega328p::kCalibratedRcHz / 2) /
            atmega328p::kCalibratedRcHz;
 }
-/// 26,368 RC cycles = 3.296 ms = 52,736 cycles of the Uno's 16 MHz crystal.
-inline constexpr Cycles kEepromWriteCycles = eeprom_write_cycles();
+/// 26,368 RC cycles = 3.296 ms = 52,736 cycles of a 16 MHz crystal (Uno, Nano).
+inline constexpr Cycles kEepromWriteCycles = eeprom_write_cycles(16'000'000);
 static_assert(kEepromWriteCycles == 52'736, "Table 8-2: 26,368 cycles at 8 MHz, CPU at 16 MHz");
 
 enum class EepromTimingMode {
@@ -110,7 +110,7 @@ public:
 
     /// Writes reserved up front: four case-1 runs of the reference sketch
     /// (240 bytes each), so a run does not reallocate inside the simulation.
-    static constexpr std::size_t kReservedWrites = atmega328p::kEepromBytes;
+    static constexpr std::size_t kReservedWrites = 1024;
     /// writes() stops growing here (1 MiB): 64 times the whole EEPROM, or
     /// 3.6 min of back-to-back writes at the datasheet's 3.3 ms each. A
     /// firmware writing in a loop (with kInstant timing, a write every few
@@ -134,10 +134,14 @@ private:
     Cycles busy_cycles_total_ = 0;
     std::vector<EepromWrite> writes_;
     uint64_t write_count_ = 0;
+    uint16_t eecr_;  ///< EECR's address
+    /// EEAR's valid bits (10 on the ATmega328P, datasheet 8.6.1): simavr
+    /// wraps an address past the end the same way.
+    uint16_t eear_mask_;
     // By address, on the heap (17 KiB inside the rig would spread its hot
     // members over more cache lines: --profile ran 5 % slower).
-    std::vector<EepromWrite> latest_ = std::vector<EepromWrite>(atmega328p::kEepromBytes);
-    std::vector<uint8_t> written_ = std::vector<uint8_t>(atmega328p::kEepromBytes, 0);  ///< latest_ entry valid
+    std::vector<EepromWrite> latest_;  ///< per EEPROM byte
+    std::vector<uint8_t> written_;     ///< per EEPROM byte: latest_ entry valid
     std::function<void(const EepromWrite&)> listener_;
 };
 

@@ -13,7 +13,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "hil/atmega328p.hpp"
+#include <fmt/format.h>
 
 namespace ddmr::hil {
 
@@ -30,6 +30,19 @@ namespace {
 constexpr uint32_t kAvrDataOffset = 0x800000;
 /// EF_AVR_MACH: the architecture field of an AVR ELF's e_flags.
 constexpr uint32_t kEfAvrMachMask = 0x7F;
+/// Bytes of .text kept for the vector check: the largest supported table
+/// (the ATmega2560's 57 JMPs) and one slot more, with room to spare.
+constexpr std::size_t kVectorTableBytes = std::size_t{64} * 4;
+
+/// " (e.g. the ATmega2560)": a well-known part of an avr-gcc architecture, for messages.
+std::string arch_example(uint32_t arch) {
+    switch (arch) {
+        case 4: return " (e.g. the ATmega8, ATmega88)";
+        case 5: return " (e.g. the ATmega328P, ATmega32U4)";
+        case 6: return " (e.g. the ATmega2560)";
+        default: return "";
+    }
+}
 /// simavr's .mmcu tag holding the MCU name (AVR_MMCU_TAG_NAME in avr_mcu_section.h).
 constexpr uint8_t kMmcuTagName = 1;
 
@@ -138,8 +151,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
             Elf_Data* d = elf_getdata(scn, nullptr);
             if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
             const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
-            const std::size_t n = std::min<std::size_t>(
-                d->d_size, std::size_t{atmega328p::kVectorCount + 1} * std::size_t{atmega328p::kVectorBytes});
+            const std::size_t n = std::min<std::size_t>(d->d_size, kVectorTableBytes);
             img.vector_table_.assign(bytes, bytes + n);
         } else if (sname == ".data") {
             img.memory_.data_bytes = static_cast<uint32_t>(shdr.sh_size);
@@ -193,43 +205,46 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
     return img;
 }
 
-void ElfImage::require_atmega328p() const {
+void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) const {
+    const std::string chip = mcu.label;
+    const std::string on = board.empty() ? chip : fmt::format("board '{}' ({})", board, chip);
     if (machine_ != EM_AVR) {
         fail(path_, "built for ELF machine " + std::to_string(machine_) +
                         ", not AVR (83): this is not an AVR firmware");
     }
     const uint32_t arch = flags_ & kEfAvrMachMask;
-    if (arch != atmega328p::kElfArchAvr5) {
-        fail(path_, "built for AVR architecture avr" + std::to_string(arch) +
-                        ", but the ATmega328P is avr5: rebuild with -mmcu=atmega328p");
+    if (arch != mcu.elf_arch) {
+        fail(path_, fmt::format("built for AVR architecture avr{}{}, but the {} is avr{}: build it for the {} "
+                                "(avr-gcc -mmcu={}, or the board's FQBN)",
+                                arch, arch_example(arch), on, mcu.elf_arch, chip, mcu.name));
     }
-    if (mmcu_ && *mmcu_ != atmega328p::kMcuName) {
-        fail(path_, "its .mmcu section names MCU '" + *mmcu_ + "', not atmega328p");
+    if (mmcu_ && *mmcu_ != mcu.name) {
+        fail(path_, fmt::format("its .mmcu section names MCU '{}', not {} ({})", *mmcu_, mcu.name, on));
     }
     if (memory_.flash_bytes() == 0) fail(path_, "has no .text section: nothing to load");
-    if (memory_.flash_bytes() > atmega328p::kFlashBytes) {
-        fail(path_, "program of " + std::to_string(memory_.flash_bytes()) +
-                        " bytes does not fit the ATmega328P's " +
-                        std::to_string(atmega328p::kFlashBytes) + "-byte flash");
+    if (memory_.flash_bytes() > mcu.flash_bytes) {
+        fail(path_, fmt::format("program of {} bytes does not fit the {}'s {}-byte flash", memory_.flash_bytes(),
+                                chip, mcu.flash_bytes));
     }
-    if (memory_.ram_bytes() > atmega328p::kSramBytes) {
-        fail(path_, "globals of " + std::to_string(memory_.ram_bytes()) +
-                        " bytes do not fit the ATmega328P's " +
-                        std::to_string(atmega328p::kSramBytes) + "-byte SRAM");
+    if (memory_.ram_bytes() > mcu.sram_bytes) {
+        fail(path_, fmt::format("globals of {} bytes do not fit the {}'s {}-byte SRAM", memory_.ram_bytes(), chip,
+                                mcu.sram_bytes));
     }
-    // The ATmega328P has 26 vectors of one JMP each. An avr5 part with a larger
-    // table (ATmega16x4, ATmega32U4, ...) has a JMP in slot 26 as well.
-    const std::size_t table = std::size_t{atmega328p::kVectorCount} * std::size_t{atmega328p::kVectorBytes};
-    if (vector_table_.size() < table) fail(path_, "too short for an ATmega328P vector table");
-    for (std::size_t v = 0; v < atmega328p::kVectorCount; ++v) {
-        if (!is_jmp(&vector_table_[v * atmega328p::kVectorBytes])) {
-            fail(path_, "interrupt vector " + std::to_string(v) +
-                            " is not a JMP: not an ATmega328P vector table");
+    // The chip's vectors are one JMP each. Another part of the same
+    // architecture with a larger table (ATmega16x4, ATmega32U4, ... for the
+    // ATmega328P) has a JMP in the slot after the last one as well.
+    const auto count = static_cast<std::size_t>(mcu.vector_count());
+    const auto slot = static_cast<std::size_t>(mcu.vector_bytes);
+    const std::size_t table = count * slot;
+    if (vector_table_.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
+    for (std::size_t v = 0; v < count; ++v) {
+        if (!is_jmp(&vector_table_[v * slot])) {
+            fail(path_, fmt::format("interrupt vector {} is not a JMP: not an {} vector table", v, chip));
         }
     }
-    if (vector_table_.size() >= table + atmega328p::kVectorBytes && is_jmp(&vector_table_[table])) {
-        fail(path_, "has more than 26 interrupt vectors: built for another avr5 MCU, "
-                    "not the ATmega328P");
+    if (vector_table_.size() >= table + slot && is_jmp(&vector_table_[table])) {
+        fail(path_, fmt::format("has more than {} interrupt vectors: built for another avr{} MCU, not the {}", count,
+                                mcu.elf_arch, on));
     }
 }
 

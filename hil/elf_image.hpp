@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "hil/mcu.hpp"
+
 namespace ddmr::hil {
 
 /// How far a symbol is visible (the ELF STB_ binding).
@@ -48,10 +50,12 @@ public:
     static ElfImage read(const std::filesystem::path& path);
 
     /// Throws std::runtime_error naming the file and the mismatch unless this ELF
-    /// was built for the ATmega328P: EM_AVR machine, avr5 architecture, an
-    /// optional simavr .mmcu section naming atmega328p, a 26-entry JMP vector
-    /// table, and a program that fits the 32 KiB flash.
-    void require_atmega328p() const;
+    /// was built for `mcu`: EM_AVR machine, the MCU's architecture (avr5 for
+    /// the ATmega328P), an optional simavr .mmcu section naming it, the MCU's
+    /// JMP vector table (26 entries on the ATmega328P, no more), and a program
+    /// and globals that fit its flash and SRAM. `board` (a board-file key, or
+    /// empty) names the board in the message: "board 'uno' (ATmega328P)".
+    void require_mcu(const McuDescription& mcu, const std::string& board = {}) const;
 
     const std::filesystem::path& path() const { return path_; }
     uint16_t machine() const { return machine_; }

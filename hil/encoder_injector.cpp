@@ -14,11 +14,9 @@
 namespace ddmr::hil {
 namespace {
 
-namespace reg = atmega328p::reg;
-
 using atmega328p::bit_set;
 
-/// ISCn1:0 in EICRA (datasheet Table 12-2): 0 low level, 1 any change, 2 falling, 3 rising.
+/// ISCn1:0 in EICRA/EICRB (datasheet Table 12-2): 0 low level, 1 any change, 2 falling, 3 rising.
 enum class Sense : uint8_t { low_level = 0, change = 1, falling = 2, rising = 3 };
 
 }  // namespace
@@ -26,16 +24,21 @@ enum class Sense : uint8_t { low_level = 0, change = 1, falling = 2, rising = 3 
 EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core_(core) {
     validate(board);
     avr_t* avr = core_.raw();
+    const McuDescription& mcu = core_.mcu();
     for (unsigned ch = 0; ch < 2; ++ch) {
         const EncoderWiring& w = board.wheel[ch].encoder;
         for (unsigned s = 0; s < w.signals(); ++s) {
             Signal& sig = signal_[ch][s];
             sig.used = true;
-            sig.pin = *uno_pin(w.pin[s]);
+            sig.pin = *board_pin(core_.board(), w.pin[s]);
             sig.irq = avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ(sig.pin.port)), sig.pin.bit);
             if (sig.irq == nullptr) throw std::runtime_error("simavr has no IRQ for pin " + std::to_string(w.pin[s]));
-            sig.vector = sig.pin.ext_int ? atmega328p::vector::kInt0 + *sig.pin.ext_int
-                                         : atmega328p::vector::kPcint0 + sig.pin.pcint_group;
+            // A pin with neither (some Mega pins) can only be polled: no vector.
+            if (sig.pin.ext_int) {
+                sig.vector = mcu.int0_vector + *sig.pin.ext_int;
+            } else if (sig.pin.pcint_group) {
+                sig.vector = mcu.pcint0_vector + *sig.pin.pcint_group;
+            }
             // simavr's own "request pending" state of each vector the pin can
             // raise (1 from the request until the vector is served); the
             // flag registers cannot tell it: simavr 1.6 does not clear EIFR /
@@ -45,11 +48,12 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
                 if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for vector " + std::to_string(vector));
                 return irqs + AVR_INT_IRQ_PENDING;
             };
-            if (sig.pin.ext_int) sig.ext_pending = pending_of(atmega328p::vector::kInt0 + *sig.pin.ext_int);
-            sig.pcint_pending = pending_of(atmega328p::vector::kPcint0 + sig.pin.pcint_group);
+            if (sig.pin.ext_int) sig.ext_pending = pending_of(mcu.int0_vector + *sig.pin.ext_int);
+            if (sig.pin.pcint_group) sig.pcint_pending = pending_of(mcu.pcint0_vector + *sig.pin.pcint_group);
         }
         swapped_[ch] = w.kind == EncoderKind::quadrature && w.reversed;
-        if (w.signals() == 0) continue;  // no encoder on this wheel: its edges go nowhere
+        // No encoder on this wheel (its edges go nowhere), or a polled pin: no ISR to count.
+        if (signal_[ch][0].vector < 0) continue;
         isr_entries_[ch].reserve(kRecordedIsrEntries);
         avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(signal_[ch][0].vector));
         if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for vector " + std::to_string(signal_[ch][0].vector));
@@ -132,19 +136,22 @@ uint64_t EncoderInjector::on_timer(struct avr_t* /*avr*/, uint64_t when, void* p
 }
 
 bool EncoderInjector::request_pending(const Signal& s, bool level) const {
+    const McuDescription& mcu = core_.mcu();
     if (s.pin.ext_int) {
         const int n = *s.pin.ext_int;
-        if (!bit_set(core_.data(reg::kEimsk), n)) return false;
-        const auto sense = static_cast<Sense>((static_cast<unsigned>(core_.data(reg::kEicra)) >> (2U * static_cast<unsigned>(n))) & 3U);
+        if (!bit_set(core_.data(mcu.eimsk), n)) return false;
+        const auto sense =
+            static_cast<Sense>((static_cast<unsigned>(core_.data(mcu.eicr_of(n))) >> McuDescription::isc_shift(n)) & 3U);
         // Low level has no latch (the request lasts while the pin is low);
         // an edge of the other polarity requests nothing.
         const bool requests = sense == Sense::change || (sense == Sense::rising && level) ||
                               (sense == Sense::falling && !level);
         if (requests && s.ext_pending->value != 0) return true;
     }
-    const int g = s.pin.pcint_group;
-    if (!bit_set(core_.data(static_cast<uint16_t>(reg::kPcmsk0 + g)), s.pin.pcint_bit)) return false;
-    if (!bit_set(core_.data(reg::kPcicr), g)) return false;
+    if (!s.pin.pcint_group) return false;
+    const int g = *s.pin.pcint_group;
+    if (!bit_set(core_.data(static_cast<uint16_t>(mcu.pcmsk0 + g)), s.pin.pcint_bit)) return false;
+    if (!bit_set(core_.data(mcu.pcicr), g)) return false;
     return s.pcint_pending->value != 0;
 }
 

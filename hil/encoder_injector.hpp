@@ -28,7 +28,7 @@
 
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
-#include "hil/uno_pins.hpp"
+#include "hil/board_description.hpp"
 
 struct avr_irq_t;
 
@@ -74,7 +74,8 @@ public:
     /// The interrupt vector (datasheet numbering, RESET = 0) that the pin of
     /// the channel's OUT / A signal can raise: INT0/INT1 on D2/D3, else its
     /// pin-change group's vector (which fires only if the firmware enables it).
-    int vector_of(unsigned channel) const { return signal_[channel][0].vector; }  ///< 0: no encoder
+    /// The vector the channel's first pin raises; -1: no encoder, or a pin without interrupt (polled).
+    int vector_of(unsigned channel) const { return signal_[channel][0].vector; }
     /// The external interrupt (0 = INT0, 1 = INT1) on the channel's OUT / A pin, if any.
     std::optional<int> interrupt_of(unsigned channel) const { return signal_[channel][0].pin.ext_int; }
     /// The level the injector last put on the pin of wheel `channel`'s
@@ -91,9 +92,9 @@ private:
     };
     struct Signal {
         bool used = false;
-        UnoPin pin{};
+        PinInfo pin{};
         avr_irq_t* irq = nullptr;
-        int vector = 0;
+        int vector = -1;
         avr_irq_t* ext_pending = nullptr;    ///< INTn's pending IRQ (D2, D3)
         avr_irq_t* pcint_pending = nullptr;  ///< the pin-change group's pending IRQ
     };

@@ -2,7 +2,6 @@
 
 #include <limits>
 
-#include "hil/atmega328p.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -91,7 +90,8 @@ Variable FirmwareVariables::lookup(const std::string& name, VarType type) const 
     }
     // Globals live in SRAM (datasheet 8.3, "SRAM Data Memory"): from the end of
     // the extended I/O space to RAMEND. Reading there never throws later.
-    if (sym->address < atmega328p::kSramStart || sym->address + want - 1 > atmega328p::kRamEnd) {
+    const McuDescription& mcu = core_.mcu();
+    if (sym->address < mcu.sram_start || sym->address + want - 1 > mcu.ram_end) {
         throw std::runtime_error(where + "variable '" + name + "' at data address " +
                                  std::to_string(sym->address) + " is not in SRAM");
     }
@@ -102,22 +102,22 @@ namespace {
 
 /// What lookup() guarantees; checked again so that a hand-made Variable can
 /// neither read outside SRAM nor make AvrCore::data throw.
-bool valid(const Variable& var) {
-    return var.size == var_type_size(var.type) && var.address >= atmega328p::kSramStart &&
-           var.address + var.size - 1U <= atmega328p::kRamEnd;
+bool valid(const Variable& var, const McuDescription& mcu) {
+    return var.size == var_type_size(var.type) && var.address >= mcu.sram_start &&
+           var.address + var.size - 1U <= mcu.ram_end;
 }
 
 }  // namespace
 
 std::array<uint8_t, 4> FirmwareVariables::raw_bytes(const Variable& var) const noexcept {
     std::array<uint8_t, 4> b{};
-    if (!valid(var)) return b;
+    if (!valid(var, core_.mcu())) return b;
     for (uint8_t i = 0; i < var.size; ++i) b[i] = core_.data(static_cast<uint16_t>(var.address + i));
     return b;
 }
 
 double FirmwareVariables::read(const Variable& var) const noexcept {
-    if (!valid(var)) return std::numeric_limits<double>::quiet_NaN();
+    if (!valid(var, core_.mcu())) return std::numeric_limits<double>::quiet_NaN();
     return decode_var(var.type, raw_bytes(var));
 }
 

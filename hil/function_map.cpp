@@ -7,7 +7,6 @@
 #include <map>
 #include <stdexcept>
 
-#include "hil/atmega328p.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -49,7 +48,7 @@ bool better_name(const ElfSymbol& a, const ElfSymbol& b) {
 
 }  // namespace
 
-FunctionMap::FunctionMap(const ElfImage& elf) {
+FunctionMap::FunctionMap(const ElfImage& elf, const McuDescription& mcu) {
     const uint32_t text_end = elf.text_end();
     // Entry points by address, each with its symbols.
     std::map<uint32_t, std::vector<const ElfSymbol*>> entries;
@@ -59,7 +58,7 @@ FunctionMap::FunctionMap(const ElfImage& elf) {
     if (entries.empty()) {
         throw std::runtime_error("firmware " + elf.path().string() + ": no function symbols in .text");
     }
-    // FunctionId is 16 bits; a 32 KiB flash has at most 16 Ki entry points.
+    // FunctionId is 16 bits: more entry points than that is not a firmware.
     if (entries.size() + 1 > std::numeric_limits<FunctionId>::max()) {
         throw std::runtime_error("firmware " + elf.path().string() + ": too many entry points");
     }
@@ -77,12 +76,12 @@ FunctionMap::FunctionMap(const ElfImage& elf) {
         functions_.push_back(std::move(f));
     }
     outside_ = static_cast<FunctionId>(functions_.size());
-    functions_.push_back(FunctionInfo{kOutsideName, {}, text_end, atmega328p::kFlashBytes});
+    functions_.push_back(FunctionInfo{kOutsideName, {}, text_end, mcu.flash_bytes});
 
-    by_word_.assign(atmega328p::kFlashBytes / 2, outside_);
+    by_word_.assign(mcu.flash_bytes / 2, outside_);
     for (std::size_t id = 0; id < outside_; ++id) {
         const FunctionInfo& f = functions_[id];
-        const uint32_t last = std::min(f.end, atmega328p::kFlashBytes);
+        const uint32_t last = std::min(f.end, mcu.flash_bytes);
         for (uint32_t a = f.address; a < last; a += 2) by_word_[a >> 1] = static_cast<FunctionId>(id);
     }
 }

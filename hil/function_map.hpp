@@ -52,7 +52,8 @@ public:
 
     /// Builds the map of `elf`'s .text. Throws std::runtime_error naming the
     /// file if .text has no entry point at all.
-    explicit FunctionMap(const ElfImage& elf);
+    /// The functions of `elf` over `mcu`'s flash.
+    FunctionMap(const ElfImage& elf, const McuDescription& mcu);
 
     /// Number of functions, the kOutsideName pseudo-function included.
     std::size_t size() const { return functions_.size(); }

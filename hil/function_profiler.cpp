@@ -5,7 +5,6 @@
 
 #include <stdexcept>
 
-#include "hil/atmega328p.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -21,15 +20,6 @@ Flow decode(uint16_t w) {
     return kOther;
 }
 
-/// True for the flash byte address of an interrupt vector other than RESET.
-bool is_interrupt_vector(uint32_t pc) {
-    constexpr uint32_t kSlot = atmega328p::kVectorBytes;
-    return pc >= kSlot && pc < atmega328p::kVectorCount * kSlot && pc % kSlot == 0;
-}
-
-/// Flash word index mask (32 KiB of flash = 16 Ki words). A PC past the
-/// flash (simavr stops the run as crashed) only reads a wrapped entry.
-constexpr uint32_t kWordMask = atmega328p::kFlashBytes / 2 - 1;
 /// The bottom frame's SP at entry: above any real SP, so it is never popped.
 constexpr uint16_t kRootSp = 0xFFFF;
 /// A CALL or an interrupt pushes a 2-byte return address (16-bit PC).
@@ -38,13 +28,22 @@ constexpr uint16_t kReturnAddressBytes = 2;
 }  // namespace
 
 FunctionProfiler::FunctionProfiler(AvrCore& core, std::size_t max_depth)
-    : core_(core), avr_(core.raw()), map_(core.elf()), max_depth_(max_depth) {
+    : core_(core),
+      avr_(core.raw()),
+      map_(core.elf(), core.mcu()),
+      word_mask_(core.mcu().flash_bytes / 2 - 1),
+      vector_slot_(static_cast<uint32_t>(core.mcu().vector_bytes)),
+      vectors_end_(static_cast<uint32_t>(core.mcu().vector_count()) * vector_slot_),
+      ram_end_(core.mcu().ram_end),
+      max_depth_(max_depth) {
     if (max_depth_ < 2) throw std::invalid_argument("FunctionProfiler: max_depth must be >= 2");
+    const uint32_t flash = core.mcu().flash_bytes;
+    if ((flash & (flash - 1)) != 0) throw std::logic_error("FunctionProfiler: the flash size is not a power of two");
     stack_.resize(max_depth_);
     level_cycles_.assign(max_depth_ + 1, 0);
     // The firmware is loaded (and flash never changes: no SPM): decode once.
-    flow_.assign(atmega328p::kFlashBytes / 2, kOther);
-    for (uint32_t a = 0; a + 1 < atmega328p::kFlashBytes; a += 2) flow_[a >> 1] = decode(core_.flash_word(a));
+    flow_.assign(flash / 2, kOther);
+    for (uint32_t a = 0; a + 1 < flash; a += 2) flow_[a >> 1] = decode(core_.flash_word(a));
     whole_.functions.assign(map_.size(), FunctionCounts{});
     loop_.functions.assign(map_.size(), FunctionCounts{});
     window_start_.assign(map_.size(), FunctionCounts{});
@@ -68,8 +67,7 @@ std::vector<FunctionId> FunctionProfiler::call_stack() const {
 void FunctionProfiler::on_instruction() {
     const Cycles now = avr_->cycle;
     const uint32_t pc = avr_->pc;
-    const auto sp = static_cast<uint16_t>(avr_->data[atmega328p::reg::kSpl] |
-                                          (avr_->data[atmega328p::reg::kSph] << 8));
+    const uint16_t sp = core_.stack_pointer();
     // Already accounted (on_loop_boundary() may run first in the same step).
     if (now == last_cycle_ && pc == last_pc_ && sp == last_sp_) return;
     const Cycles delta = now - last_cycle_;
@@ -88,14 +86,14 @@ void FunctionProfiler::on_instruction() {
 
 void FunctionProfiler::update_stack(uint32_t prev_pc, uint16_t prev_sp, uint32_t pc, uint16_t sp) {
     // Most instructions stay in their function and touch no frame.
-    const auto flow = static_cast<Flow>(flow_[(prev_pc >> 1) & kWordMask]);
+    const auto flow = static_cast<Flow>(flow_[(prev_pc >> 1) & word_mask_]);
     if (flow == kOther && map_.at(pc) == stack_[depth_ - 1].function && !is_interrupt_vector(pc)) {
         return;
     }
     // An interrupt taken at the end of this step pushed the address of the
     // next instruction: the instruction's own result is that PC and SP + 2.
     const bool interrupt = is_interrupt_vector(pc) && sp <= prev_sp &&
-                           sp + kReturnAddressBytes <= atmega328p::kRamEnd;
+                           sp + kReturnAddressBytes <= ram_end_;
     uint32_t next_pc = pc;
     uint16_t next_sp = sp;
     if (interrupt) {

@@ -144,6 +144,16 @@ private:
     AvrCore& core_;
     avr_t* avr_;
     FunctionMap map_;
+    /// Flash word index mask (flash sizes are powers of two). A PC past the
+    /// flash (simavr stops the run as crashed) only reads a wrapped entry.
+    uint32_t word_mask_;
+    uint32_t vector_slot_;  ///< bytes per interrupt vector
+    uint32_t vectors_end_;  ///< first flash byte after the vector table
+    uint16_t ram_end_;
+    /// True for the flash byte address of an interrupt vector other than RESET.
+    bool is_interrupt_vector(uint32_t pc) const {
+        return pc >= vector_slot_ && pc < vectors_end_ && pc % vector_slot_ == 0;
+    }
     std::size_t max_depth_;
     std::vector<Frame> stack_;     ///< max_depth_ slots; depth_ in use
     std::size_t depth_ = 0;

@@ -21,7 +21,6 @@
 
 #include <fmt/format.h>
 
-#include "hil/atmega328p.hpp"
 #include "hil/eeprom_port.hpp"
 
 namespace ddmr::hil {

@@ -2,11 +2,9 @@
 
 #include <stdexcept>
 
-#include "hil/atmega328p.hpp"
+#include "hil/uart_link.hpp"
 
 namespace ddmr::hil {
-
-namespace reg = atmega328p::reg;
 
 namespace {
 double adapter_bit_cycles(const AvrCore& core, uint32_t baud) {
@@ -19,12 +17,10 @@ HostAdapter::HostAdapter(AvrCore& core, uint32_t baud)
     : core_(core), baud_(baud), line_(adapter_bit_cycles(core, baud)) {}
 
 double HostAdapter::firmware_bit_cycles() const {
-    const auto ubrr = static_cast<uint16_t>(((core_.data(reg::kUbrr0H) & 0x0F) << 8) | core_.data(reg::kUbrr0L));
-    const bool u2x = (core_.data(reg::kUcsr0A) & 0x02) != 0;  // U2X0
-    return SerialLine::avr_bit_cycles(ubrr, u2x);
+    return static_cast<double>(usart_cycles_per_bit(core_, core_.board().console()));
 }
 
-bool HostAdapter::receiver_enabled() const { return (core_.data(reg::kUcsr0B) & (1U << 4)) != 0; }  // RXEN0
+bool HostAdapter::receiver_enabled() const { return usart_receiver_enabled(core_, core_.board().console()); }
 
 void HostAdapter::on_firmware_byte(const UartByte& b, std::vector<LineByte>& out) {
     line_.push(static_cast<double>(b.cycle), b.value, firmware_bit_cycles(), out);

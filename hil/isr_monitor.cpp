@@ -14,7 +14,7 @@ namespace {
 
 /// The flash byte address a vector's JMP (or RJMP) leads to, if it is one.
 std::optional<uint32_t> vector_target(const AvrCore& core, int vector) {
-    const auto at = static_cast<uint32_t>(vector * atmega328p::kVectorBytes);
+    const auto at = static_cast<uint32_t>(vector * core.mcu().vector_bytes);
     const uint16_t w0 = core.flash_word(at);
     if ((w0 & 0xFE0E) == 0x940C) {  // JMP k: 1001 010k kkkk 110k, kkkk kkkk kkkk kkkk
         const uint32_t k = ((static_cast<uint32_t>(w0 & 0x01F0) >> 3) | (w0 & 0x0001U)) << 16 |
@@ -73,15 +73,20 @@ void CycleStats::add(Cycles cycles) {
 }
 
 IsrMonitor::IsrMonitor(AvrCore& core, const ElfImage& elf, const IsrMonitorConfig& config)
-    : core_(core), config_(config), start_cycle_(core.cycle()) {
+    : core_(core),
+      config_(config),
+      start_cycle_(core.cycle()),
+      mcu_(core.mcu()),
+      vectors_(static_cast<std::size_t>(mcu_.vector_count())),
+      handlers_(static_cast<std::size_t>(mcu_.vector_count())) {
     events_.reserve(config_.event_capacity);
     avr_t* avr = core_.raw();
-    for (int v = 1; v < atmega328p::kVectorCount; ++v) {
+    for (int v = 1; v < mcu_.vector_count(); ++v) {
         VectorState& s = vectors_[static_cast<std::size_t>(v)];
         s.irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(v));
         if (s.irqs == nullptr) {
-            throw std::runtime_error(fmt::format("IsrMonitor: simavr has no IRQs for vector {} ({})", v,
-                                                 atmega328p::vector::kNames[static_cast<std::size_t>(v)]));
+            throw std::runtime_error(
+                fmt::format("IsrMonitor: simavr has no IRQs for vector {} ({})", v, mcu_.vector_name(v)));
         }
         s.hook = Hook{this, v};
         handlers_[static_cast<std::size_t>(v)] = vector_handler_name(core_, elf, v);
@@ -109,7 +114,7 @@ IsrMonitor::IsrMonitor(AvrCore& core, const ElfImage& elf, const IsrMonitorConfi
 IsrMonitor::~IsrMonitor() {
     core_.remove_reset_listener(this);
     avr_t* avr = core_.raw();
-    for (int v = 1; v < atmega328p::kVectorCount; ++v) {
+    for (int v = 1; v < mcu_.vector_count(); ++v) {
         VectorState& s = vectors_[static_cast<std::size_t>(v)];
         avr_irq_unregister_notify(s.irqs + AVR_INT_IRQ_PENDING, &IsrMonitor::on_pending, &s.hook);
         avr_irq_unregister_notify(s.irqs + AVR_INT_IRQ_RUNNING, &IsrMonitor::on_running, &s.hook);
@@ -170,7 +175,7 @@ void IsrMonitor::enter(VectorState& v, int vector) {
 void IsrMonitor::leave(VectorState& v) {
     if (v.depth == 0) return;  // a RETI whose entry came before the monitor
     // simavr reports RETI before it charges RETI's cycles.
-    const Cycles end = core_.cycle() + atmega328p::kRetiCycles;
+    const Cycles end = core_.cycle() + mcu_.reti_cycles;
     --v.depth;
     if (v.depth < kMaxNesting) {
         const Frame& f = v.frames[static_cast<std::size_t>(v.depth)];
@@ -193,7 +198,7 @@ uint64_t IsrMonitor::on_instruction(struct avr_t* avr, uint64_t /*when*/, void* 
 }
 
 std::optional<Cycles> IsrMonitor::pending_since(int vector) const {
-    if (vector < 1 || vector >= atmega328p::kVectorCount) return std::nullopt;
+    if (vector < 1 || vector >= mcu_.vector_count()) return std::nullopt;
     return vectors_[static_cast<std::size_t>(vector)].raise;
 }
 
@@ -201,6 +206,7 @@ IsrSummary IsrMonitor::summary() const {
     IsrSummary s;
     s.start_cycle = start_cycle_;
     s.end_cycle = core_.cycle();
+    s.clock_hz = core_.clock_hz();
     s.precise = config_.precise;
     s.max_nesting = max_nesting_;
     s.untimed_entries = untimed_;
@@ -209,16 +215,16 @@ IsrSummary IsrMonitor::summary() const {
         s.interrupts_disabled_cycles = disabled_cycles_ + (i_flag_ ? 0 : s.end_cycle - last_cycle_);
     }
     const Cycles observed = s.observed_cycles();
-    for (int n = 1; n < atmega328p::kVectorCount; ++n) {
+    for (int n = 1; n < mcu_.vector_count(); ++n) {
         const auto i = static_cast<std::size_t>(n);
         const VectorState& v = vectors_[i];
         if (v.count == 0) {
-            if (v.raised != 0) s.raised_not_entered.emplace_back(atmega328p::vector::kNames[i]);
+            if (v.raised != 0) s.raised_not_entered.push_back(mcu_.vector_name(n));
             continue;
         }
         VectorSummary out;
         out.vector = n;
-        out.name = atmega328p::vector::kNames[i];
+        out.name = mcu_.vector_name(n);
         out.handler = handlers_[i];
         out.count = v.count;
         out.raised = v.raised;
@@ -235,9 +241,9 @@ IsrSummary IsrMonitor::summary() const {
 
 std::string to_markdown(const IsrSummary& s) {
     std::string md;
-    md += fmt::format("ISR timing over {} cycles ({:.3f} s at 16 MHz); latency = raise to vector entry, "
+    md += fmt::format("ISR timing over {} cycles ({:.3f} s at {:g} MHz); latency = raise to vector entry, "
                       "duration = vector JMP to end of RETI (simavr charges no interrupt-response cycles).\n\n",
-                      s.observed_cycles(), cycles_to_s(s.observed_cycles()));
+                      s.observed_cycles(), cycles_to_s(s.observed_cycles(), s.clock_hz), s.clock_hz / 1e6);
     md += "| vector | source | handler | count | latency min / mean / max [cycles] | "
           "duration min / mean / max [cycles] | CPU share |\n";
     md += "|---:|---|---|---:|---:|---:|---:|\n";

@@ -24,7 +24,7 @@
 //               boundary. After SEI or RETI simavr runs two more instructions
 //               before it takes an interrupt (the datasheet says one).
 //   duration  = end of RETI - entry: the JMP in the vector table, the handler
-//               and its RETI (atmega328p::kRetiCycles, added because simavr
+//               and its RETI (McuDescription::reti_cycles, added because simavr
 //               reports the RETI before charging its cycles). It includes any
 //               ISR that nested inside (only if the handler re-enabled I).
 //   cpu_share = sum of durations / cycles observed since construction.
@@ -122,6 +122,7 @@ struct VectorSummary {
 struct IsrSummary {
     Cycles start_cycle = 0;  ///< when the monitor started
     Cycles end_cycle = 0;    ///< when the summary was taken
+    uint32_t clock_hz = 0;   ///< the board's clock
     Cycles observed_cycles() const { return end_cycle - start_cycle; }
     Cycles isr_cycles = 0;   ///< cycles with any ISR running (nested once)
     /// Cycles with SREG.I clear; only in precise mode.
@@ -199,8 +200,9 @@ private:
     AvrCore& core_;
     IsrMonitorConfig config_;
     Cycles start_cycle_ = 0;
-    std::array<VectorState, atmega328p::kVectorCount> vectors_{};
-    std::array<std::string, atmega328p::kVectorCount> handlers_{};
+    const McuDescription& mcu_;
+    std::vector<VectorState> vectors_;  ///< per vector of the MCU (never resized: hooks point into it)
+    std::vector<std::string> handlers_;
     std::vector<IsrEvent> events_;
     int nesting_ = 0;  ///< ISRs running now, all vectors
     int max_nesting_ = 0;

@@ -141,7 +141,7 @@ std::vector<std::string> MotorDriverReader::wiring_warnings() const {
             if (in.tied_high || pins_.ever_output(in.pin)) continue;
             const bool pullup = pins_.mode(in.pin) == PinMode::input_pullup;
             out.push_back(fmt::format("pin {} ({}) is never set as an output: the driver sees only {}",
-                                      sketch_pin_name(in.pin),
+                                      sketch_pin_name(board_description(board_.model), in.pin),
                                       input_label(board_, m, in.role),
                                       pullup ? "the pull-up (high)" : "a floating input (read as low)"));
         }

@@ -39,10 +39,16 @@ bool same(const TimerRegisters& a, const TimerRegisters& b) {
 
 }  // namespace
 
-PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins) : core_(core) {
+PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
+    : core_(core),
+      timers_(core.mcu().timers),
+      pin_(static_cast<std::size_t>(core.board().pin_count())),
+      timer_(timers_.size()),
+      last_regs_(timers_.size()),
+      timer_hook_(timers_.size()) {
     std::set<uint16_t> port_registers;
     for (const int p : pins) {
-        const auto info = uno_pin(p);
+        const auto info = board_pin(core.board(), p);
         if (!info) throw std::invalid_argument("PinWaveforms: no pin " + std::to_string(p));
         Pin& w = pin_[static_cast<std::size_t>(p)];
         w.watched = true;
@@ -50,7 +56,7 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins) : core_(
         port_registers.insert({info->ddr_register, info->port_register});
         if (info->oc) {
             const auto t = static_cast<std::size_t>(info->oc->timer);
-            if (!timer_[t]) timer_[t].emplace(kAtmega328pTimers[t]);
+            if (!timer_[t]) timer_[t].emplace(timers_[t]);
         }
     }
     port_hook_ = Hook{this, -1};
@@ -58,7 +64,7 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins) : core_(
     for (std::size_t t = 0; t < timer_.size(); ++t) {
         if (!timer_[t]) continue;
         timer_hook_[t] = Hook{this, static_cast<int>(t)};
-        const TimerDesc& d = kAtmega328pTimers[t];
+        const TimerDesc& d = timers_[t];
         for (const uint16_t a : {d.tccra, d.tccrb, d.ocra_low, d.ocra_high, d.ocrb_low, d.ocrb_high, d.icr_low, d.icr_high}) {
             if (a != 0) watch(a, &timer_hook_[t]);
         }
@@ -101,7 +107,7 @@ void PinWaveforms::note_change(Cycles cycle) {
 }
 
 void PinWaveforms::sample_timer(std::size_t t) {
-    const TimerRegisters r = read_timer(core_, kAtmega328pTimers[t]);
+    const TimerRegisters r = read_timer(core_, timers_[t]);
     if (same(r, last_regs_[t])) return;  // simavr also notifies reads
     last_regs_[t] = r;
     ++revision_;
@@ -127,25 +133,23 @@ void PinWaveforms::sample_ports() {
         p.port_bit = port;
         p.ever_output = p.ever_output || output;
     }
-    const std::array<bool, kUnoPinCount> before = [this] {
-        std::array<bool, kUnoPinCount> c{};
-        for (std::size_t i = 0; i < pin_.size(); ++i) c[i] = pin_[i].connected;
-        return c;
-    }();
-    refresh_connections();
-    for (std::size_t i = 0; i < pin_.size(); ++i) changed = changed || before[i] != pin_[i].connected;
+    if (refresh_connections()) changed = true;
     if (changed) {
         ++revision_;
         note_change(core_.cycle());
     }
 }
 
-void PinWaveforms::refresh_connections() {
+bool PinWaveforms::refresh_connections() {
+    bool changed = false;
     for (Pin& p : pin_) {
         if (!p.watched) continue;
         const TimerOutputDecoder* t = p.info.oc ? timer_of(p.info.number) : nullptr;
-        p.connected = p.mode == PinMode::output && t != nullptr && t->connected(p.info.oc->channel);
+        const bool connected = p.mode == PinMode::output && t != nullptr && t->connected(p.info.oc->channel);
+        changed = changed || connected != p.connected;
+        p.connected = connected;
     }
+    return changed;
 }
 
 void PinWaveforms::advance_to(Cycles cycle) {

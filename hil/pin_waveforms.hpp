@@ -27,7 +27,7 @@
 
 #include "hil/avr_core.hpp"
 #include "hil/timer_output.hpp"
-#include "hil/uno_pins.hpp"
+#include "hil/board_description.hpp"
 
 struct avr_irq_t;
 
@@ -39,7 +39,7 @@ class PinWaveforms {
 public:
     static constexpr Cycles kNever = TimerOutputDecoder::kNever;
 
-    /// Watches `pins` (Uno numbers, each valid) and the timers behind them.
+    /// Watches `pins` (the board's pin numbers, each valid) and the timers behind them.
     PinWaveforms(AvrCore& core, const std::vector<int>& pins);
     ~PinWaveforms();
     PinWaveforms(const PinWaveforms&) = delete;
@@ -80,7 +80,7 @@ public:
 private:
     struct Pin {
         bool watched = false;
-        UnoPin info{};
+        PinInfo info{};
         PinMode mode = PinMode::input_floating;
         bool port_bit = false;
         bool ever_output = false;
@@ -94,14 +94,16 @@ private:
     void watch(uint16_t address, Hook* hook);
     void sample_ports();
     void sample_timer(std::size_t t);
-    void refresh_connections();
+    /// Updates each pin's `connected`; true if one changed.
+    bool refresh_connections();
     void note_change(Cycles cycle);
 
     AvrCore& core_;
-    std::array<Pin, kUnoPinCount> pin_{};
-    std::array<std::optional<TimerOutputDecoder>, 3> timer_{};
-    std::array<TimerRegisters, 3> last_regs_{};
-    std::array<Hook, 3> timer_hook_{};
+    const std::vector<TimerDesc>& timers_;  ///< the MCU's timers
+    std::vector<Pin> pin_;                   ///< per board pin
+    std::vector<std::optional<TimerOutputDecoder>> timer_;  ///< per timer: decoded when a watched pin is on it
+    std::vector<TimerRegisters> last_regs_;
+    std::vector<Hook> timer_hook_;           ///< per timer (never resized: simavr holds pointers)
     Hook port_hook_{};
     uint64_t changes_ = 0;
     uint64_t revision_ = 0;

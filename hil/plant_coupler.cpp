@@ -9,9 +9,16 @@
 
 namespace ddmr::hil {
 
+CouplerConfig resolved(const CouplerConfig& config, uint32_t clock_hz) {
+    CouplerConfig c = config;
+    if (c.step_cycles == 0) c.step_cycles = s_to_cycles(CouplerConfig::kDefaultStepS, clock_hz);
+    if (c.truth_period_cycles == 0) c.truth_period_cycles = s_to_cycles(CouplerConfig::kDefaultTruthPeriodS, clock_hz);
+    return c;
+}
+
 PlantCoupler::PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader& reader,
                            EncoderInjector& injector, const CouplerConfig& config)
-    : core_(core), robot_(robot), reader_(reader), injector_(injector), config_(config) {
+    : core_(core), robot_(robot), reader_(reader), injector_(injector), config_(resolved(config, core.clock_hz())) {
     if (config_.step_cycles == 0) throw std::invalid_argument("coupling step must be >= 1 cycle");
     if (config_.truth_period_cycles == 0 || config_.truth_period_cycles % config_.step_cycles != 0) {
         throw std::invalid_argument("ground-truth period " + std::to_string(config_.truth_period_cycles) +

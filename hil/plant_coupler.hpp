@@ -1,7 +1,7 @@
 #pragma once
 // PlantCoupler: advances the plant in lockstep with the AVR clock.
 //
-// Every `step_cycles` (a cycle timer, default 1000 cycles = 62.5 us) at
+// Every `step_cycles` (a cycle timer, default 62.5 us: 1000 cycles at 16 MHz) at
 // boundary b it
 //   1. takes the bridges' drive from the MotorDriverReader as of b,
 //   2. advances the plant over [b, b + step): in averaged mode in one step
@@ -15,7 +15,7 @@
 // cycle c reaches the plant at the first boundary >= c (OCR writes: at the
 // first boundary >= the timer's next TOP). Input latency is below one step.
 //
-// Ground truth is sampled every `truth_period_cycles` (default 16,000 = 1 kHz)
+// Ground truth is sampled every `truth_period_cycles` (default 1 ms: 16,000 at 16 MHz)
 // at a boundary, before the next interval is stepped.
 // A plant that diverges (non-finite state) or overflows its edge buffer stops
 // the AVR cleanly (AvrCore::request_stop); status() says which and when.
@@ -32,10 +32,17 @@
 namespace ddmr::hil {
 
 struct CouplerConfig {
+    /// Defaults in time, turned into cycles at the board's clock.
+    static constexpr double kDefaultStepS = 62.5e-6;
+    static constexpr double kDefaultTruthPeriodS = 1e-3;
     plant::DriveMode mode = plant::DriveMode::switched;
-    Cycles step_cycles = 1000;          ///< coupling step [cycles], >= 1
-    Cycles truth_period_cycles = 16000; ///< ground-truth sample period [cycles], multiple of step
+    Cycles step_cycles = 0;          ///< coupling step [cycles], >= 1; 0: kDefaultStepS at the board's clock
+    /// Ground-truth sample period [cycles], a multiple of the step; 0: kDefaultTruthPeriodS at the board's clock.
+    Cycles truth_period_cycles = 0;
 };
+
+/// `config` with its 0 (default) periods in cycles of `clock_hz`.
+CouplerConfig resolved(const CouplerConfig& config, uint32_t clock_hz);
 
 /// One ground-truth sample (the plant at a cycle, and what it was driven with).
 struct TruthSample {

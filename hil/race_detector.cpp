@@ -29,6 +29,7 @@ std::optional<std::size_t> pair_of(uint8_t reg) {
 }
 
 uint32_t bit(unsigned n) { return 1U << n; }
+VectorMask vector_bit(int vector) { return VectorMask{1} << static_cast<unsigned>(vector); }
 
 /// Flash byte address of the instruction that ends just before `pc`, or
 /// nullopt at the start of flash. Unambiguous on the ATmega328P: the second
@@ -237,17 +238,19 @@ uint64_t SplitAccess::total_splits() const {
 
 RaceDetector::RaceDetector(AvrCore& core, const ElfImage& elf, std::size_t record_capacity)
     : core_(core),
-      objects_(elf),
+      objects_(elf, core.mcu()),
       isr_writers_(objects_.size(), 0),
       isr_readers_(objects_.size(), 0),
       written_in_(objects_.size(), 0),
-      isr_pcs_((atmega328p::kFlashBytes / 2 + 63) / 64, 0) {
+      isr_pcs_((core.mcu().flash_bytes / 2 + 63) / 64, 0) {
     pending_.reserve(2 * static_cast<std::size_t>(kMaxWalk));
     accesses_.reserve(record_capacity);
     stale_.reserve(record_capacity);
     avr_t* avr = core_.raw();
-    hooks_.reserve(atmega328p::kVectorCount);
-    for (int vec = 1; vec < atmega328p::kVectorCount; ++vec) {
+    const int vectors = core_.mcu().vector_count();
+    if (vectors > kMaxVectors) throw std::logic_error("RaceDetector: more vectors than a VectorMask holds");
+    hooks_.reserve(static_cast<std::size_t>(vectors));
+    for (int vec = 1; vec < vectors; ++vec) {
         avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(vec));
         if (irqs == nullptr) throw std::runtime_error(fmt::format("RaceDetector: simavr has no vector {}", vec));
         hooks_.push_back(Hook{this, vec, irqs + AVR_INT_IRQ_RUNNING});
@@ -308,7 +311,7 @@ void RaceDetector::entry_from_main() {
     pending_stale_.reset();
     // The vector entry pushed the return word address: high byte at SP+1, low at SP+2.
     const uint16_t sp = core_.stack_pointer();
-    if (sp + 2U > atmega328p::kRamEnd) return;
+    if (sp + 2U > core_.mcu().ram_end) return;
     const uint32_t ret_word = (static_cast<uint32_t>(core_.data(static_cast<uint16_t>(sp + 1))) << 8) |
                               core_.data(static_cast<uint16_t>(sp + 2));
     const uint32_t resume_pc = ret_word * 2;
@@ -371,11 +374,11 @@ void RaceDetector::step() {
     if (!object) return;
     const int vector = vectors_[static_cast<std::size_t>(std::min(depth_, kMaxNesting) - 1)];
     if (a->store) {
-        isr_writers_[*object] |= bit(static_cast<unsigned>(vector));
+        isr_writers_[*object] |= vector_bit(vector);
         written_in_[*object] = entry_serial_;
         return;
     }
-    isr_readers_[*object] |= bit(static_cast<unsigned>(vector));
+    isr_readers_[*object] |= vector_bit(vector);
     for (Pending& p : pending_) {
         if (p.kind != AccessKind::kWrite || p.object != *object || p.isr_read) continue;
         p.isr_read = true;
@@ -454,7 +457,7 @@ void RaceDetector::finish_entry(int vector) {
         }
         if (found != nullptr) {
             ++found->writes_missed;
-            found->vectors |= bit(static_cast<unsigned>(vector));
+            found->vectors |= vector_bit(vector);
         } else {
             ++stats_.dropped;
         }
@@ -475,10 +478,10 @@ std::vector<SharedVariable> RaceDetector::shared() const {
 }
 
 uint64_t RaceDetector::race_splits(const SplitAccess& a) const {
-    const uint32_t sharers = a.kind == AccessKind::kRead ? isr_writers_[a.object] : isr_readers_[a.object];
+    const VectorMask sharers = a.kind == AccessKind::kRead ? isr_writers_[a.object] : isr_readers_[a.object];
     uint64_t n = 0;
     for (std::size_t v = 0; v < a.splits.size(); ++v) {
-        if ((sharers & bit(static_cast<unsigned>(v))) != 0) n += a.splits[v];
+        if ((sharers & vector_bit(static_cast<int>(v))) != 0) n += a.splits[v];
     }
     return n;
 }

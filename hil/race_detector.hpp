@@ -83,7 +83,6 @@
 #include <unordered_map>
 #include <vector>
 
-#include "hil/atmega328p.hpp"
 #include "hil/avr_core.hpp"
 #include "hil/cycle_time.hpp"
 #include "hil/data_objects.hpp"
@@ -139,7 +138,7 @@ struct SplitAccess {
     std::size_t object = 0;          ///< DataObjects index
     AccessKind kind = AccessKind::kRead;
     uint32_t pc = 0;                 ///< flash byte address of its first instruction
-    std::array<uint64_t, atmega328p::kVectorCount> splits{};  ///< per splitting vector
+    std::array<uint64_t, kMaxVectors> splits{};  ///< per splitting vector
     uint64_t torn = 0;       ///< read: the ISR changed it; write: the ISR read it mid-write
     uint64_t observed = 0;   ///< torn with a value the main program (read) or ISR (write) should never see
     Cycles first_cycle = 0;  ///< entry of the ISR that first split it
@@ -154,15 +153,15 @@ struct SplitAccess {
 struct StaleRead {
     StaleLoop where;
     uint64_t writes_missed = 0;  ///< ISR entries that wrote the variable while main spun in the loop
-    uint32_t vectors = 0;        ///< bit v: the vectors that wrote it
+    VectorMask vectors = 0;      ///< bit v: the vectors that wrote it
     Cycles first_cycle = 0;
 };
 
 /// An SRAM variable an ISR accessed.
 struct SharedVariable {
     std::size_t object = 0;
-    uint32_t isr_writers = 0;  ///< bit v: vector v's ISR stored into it
-    uint32_t isr_readers = 0;  ///< bit v: vector v's ISR loaded from it
+    VectorMask isr_writers = 0;  ///< bit v: vector v's ISR stored into it
+    VectorMask isr_readers = 0;  ///< bit v: vector v's ISR loaded from it
 };
 
 struct RaceStats {
@@ -183,6 +182,8 @@ public:
     RaceDetector& operator=(const RaceDetector&) = delete;
 
     const DataObjects& objects() const { return objects_; }
+    /// The chip it watches (vector names for reports).
+    const McuDescription& mcu() const { return core_.mcu(); }
     /// Every variable an ISR loaded or stored, by address.
     std::vector<SharedVariable> shared() const;
     /// Every split access (races and splits by ISRs that do not share the
@@ -236,8 +237,8 @@ private:
     int depth_ = 0;
     uint64_t entry_serial_ = 0;            ///< counts entries from the main program
     Cycles entry_cycle_ = 0;               ///< of the entry in progress
-    std::vector<uint32_t> isr_writers_;    ///< per object
-    std::vector<uint32_t> isr_readers_;
+    std::vector<VectorMask> isr_writers_;  ///< per object
+    std::vector<VectorMask> isr_readers_;
     std::vector<uint64_t> written_in_;     ///< per object: entry_serial_ of its last ISR store
     std::vector<Pending> pending_;         ///< splits of the entry in progress
     std::optional<StaleLoop> pending_stale_;

@@ -15,11 +15,18 @@ plant::RobotParams wired(plant::RobotParams p, const BoardWiring& board) {
     return p;
 }
 
+/// The core's configuration on the board the wiring names (its MCU and clock).
+AvrCoreConfig core_on_board(const RigConfig& config) {
+    AvrCoreConfig c = config.core;
+    c.board = config.board.model;
+    return c;
+}
+
 }  // namespace
 
 RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
     : config_(config),
-      core_(elf, config.core),
+      core_(elf, core_on_board(config)),
       uart_(core_, config.uart_timing),
       eeprom_(core_),
       eeprom_timing_(core_, config.eeprom_timing),

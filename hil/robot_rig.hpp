@@ -36,7 +36,7 @@ struct RigConfig {
     CouplerConfig coupler{};
     EepromTimingMode eeprom_timing = EepromTimingMode::kDatasheet;
     UartTiming uart_timing = UartTiming::kChip;
-    AvrCoreConfig core{};
+    AvrCoreConfig core{};  ///< its `board` is replaced by board.model (the wiring names the board)
 };
 
 class RobotRig {
@@ -46,6 +46,7 @@ public:
     RobotRig& operator=(const RobotRig&) = delete;
 
     AvrCore& core() { return core_; }
+    const AvrCore& core() const { return core_; }
     UartLink& uart() { return uart_; }
     EepromPort& eeprom() { return eeprom_; }
     EepromWriteTiming& eeprom_timing() { return eeprom_timing_; }

@@ -37,7 +37,7 @@ enum class FailureKind { kStackOverflow, kPlantFailed, kCrashed, kSleepForever, 
 struct RunEnd {
     RunStop stop = RunStop::kReachedCycle;     ///< what AvrCore::run_until returned
     Cycles cycle = 0;                          ///< AvrCore::cycle() then
-    uint32_t clock_hz = atmega328p::kClockHz;  ///< to give `cycle` in simulated seconds
+    uint32_t clock_hz = 0;                     ///< the board's clock, to give `cycle` in simulated seconds
     uint32_t pc = 0;                           ///< program counter, flash byte address
     std::string simavr_error;                  ///< SimavrLog::first_error()
     std::optional<StackOverflow> stack_overflow;

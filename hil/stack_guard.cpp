@@ -5,14 +5,13 @@
 
 #include <stdexcept>
 
-#include "hil/atmega328p.hpp"
 
 namespace ddmr::hil {
 
 StackGuard::StackGuard(AvrCore& core, const ElfImage& elf, Cycles period)
     : core_(core),
       period_(period),
-      bss_end_(static_cast<uint16_t>(atmega328p::kSramStart + elf.memory_use().ram_bytes())) {
+      bss_end_(static_cast<uint16_t>(core.mcu().sram_start + elf.memory_use().ram_bytes())) {
     if (period_ == 0) throw std::invalid_argument("StackGuard: period must be >= 1 cycle");
     avr_cycle_timer_register(core_.raw(), period_, &StackGuard::on_sample, this);
     core_.add_reset_listener(this, [this] {

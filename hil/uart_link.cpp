@@ -8,10 +8,10 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "hil/serial_line.hpp"
+
 namespace ddmr::hil {
 namespace {
-
-constexpr char kUartName = '0';
 
 avr_uart_t* find_uart(avr_t* avr, char name) {
     for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
@@ -25,44 +25,46 @@ avr_uart_t* find_uart(avr_t* avr, char name) {
 
 bool bit(uint8_t value, int n) { return ((static_cast<unsigned>(value) >> n) & 1U) != 0; }
 
-/// Bit time of the ATmega328P USART in asynchronous mode (datasheet 19.3.1).
-unsigned chip_cycles_per_bit(const AvrCore& core) {
+/// Frame time of a USART in asynchronous mode (datasheet 19.3.1, 19.4:
+/// frame = start + data + optional parity + stop bits).
+Cycles chip_cycles_per_byte(const AvrCore& core, const UsartDesc& u) {
     using namespace atmega328p;
-    const unsigned ubrr =
-        static_cast<unsigned>(core.data(reg::kUbrr0L)) | ((core.data(reg::kUbrr0H) & 0x0FU) << 8);
-    return (ubrr + 1) * (bit(core.data(reg::kUcsr0A), uart_bit::kU2x0) ? 8U : 16U);
-}
-
-/// Frame time of the ATmega328P USART in asynchronous mode (datasheet 19.3.1,
-/// 19.4: frame = start + data + optional parity + stop bits).
-Cycles chip_cycles_per_byte(const AvrCore& core) {
-    using namespace atmega328p;
-    const uint8_t ucsrb = core.data(reg::kUcsr0B);
-    const uint8_t ucsrc = core.data(reg::kUcsr0C);
+    const uint8_t ucsrb = core.data(u.ucsrb);
+    const uint8_t ucsrc = core.data(u.ucsrc);
     const unsigned ucsz = ((ucsrc >> uart_bit::kUcsz00) & 0x3U) | (bit(ucsrb, uart_bit::kUcsz02) ? 4U : 0U);
     static constexpr unsigned kDataBits[8] = {5, 6, 7, 8, 8, 8, 8, 9};  // 4..6 reserved
     const unsigned data_bits = kDataBits[ucsz];
     const unsigned parity_bits = ((ucsrc >> uart_bit::kUpm00) & 0x3U) != 0 ? 1U : 0U;
     const unsigned stop_bits = bit(ucsrc, uart_bit::kUsbs0) ? 2U : 1U;
-    return static_cast<Cycles>(chip_cycles_per_bit(core)) * (1U + data_bits + parity_bits + stop_bits);
+    return static_cast<Cycles>(usart_cycles_per_bit(core, u)) * (1U + data_bits + parity_bits + stop_bits);
 }
 
 }  // namespace
 
-UartLink::UartLink(AvrCore& core, UartTiming timing) : core_(core) {
+unsigned usart_cycles_per_bit(const AvrCore& core, const UsartDesc& u) {
+    using namespace atmega328p;
+    const auto ubrr = static_cast<uint16_t>(core.data(u.ubrrl) | ((core.data(u.ubrrh) & 0x0FU) << 8));
+    return static_cast<unsigned>(SerialLine::avr_bit_cycles(ubrr, bit(core.data(u.ucsra), uart_bit::kU2x0)));
+}
+
+bool usart_receiver_enabled(const AvrCore& core, const UsartDesc& u) {
+    return bit(core.data(u.ucsrb), atmega328p::uart_bit::kRxen0);
+}
+
+UartLink::UartLink(AvrCore& core, UartTiming timing) : core_(core), usart_(core.board().console()) {
     avr_t* avr = core_.raw();
-    uart_ = find_uart(avr, kUartName);
-    if (uart_ == nullptr) throw std::runtime_error("simavr core has no USART0");
-    avr_irq_t* irqs = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(kUartName), 0);
-    if (irqs == nullptr) throw std::runtime_error("simavr USART0 has no IRQs");
+    const char name = console_uart_name(core_.board());
+    uart_ = find_uart(avr, name);
+    if (uart_ == nullptr) throw std::runtime_error(std::string("simavr core has no USART") + name);
+    avr_irq_t* irqs = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(name), 0);
+    if (irqs == nullptr) throw std::runtime_error(std::string("simavr USART") + name + " has no IRQs");
     input_irq_ = irqs + UART_IRQ_INPUT;
     received_.reserve(kRecordedBytes);
     avr_irq_register_notify(irqs + UART_IRQ_OUTPUT, &UartLink::on_output, this);
     avr_irq_register_notify(irqs + UART_IRQ_OUT_XON, &UartLink::on_xon, this);
     avr_irq_register_notify(irqs + UART_IRQ_OUT_XOFF, &UartLink::on_xoff, this);
     if (timing == UartTiming::kChip) {
-        using namespace atmega328p::reg;
-        for (uint16_t addr : {kUcsr0A, kUcsr0B, kUcsr0C, kUbrr0L, kUbrr0H}) {
+        for (uint16_t addr : {usart_.ucsra, usart_.ucsrb, usart_.ucsrc, usart_.ubrrl, usart_.ubrrh}) {
             avr_irq_t* w = avr_iomem_getirq(avr, addr, nullptr, AVR_IOMEM_IRQ_ALL);
             avr_irq_register_notify(w, &UartLink::on_frame_register, this);
         }
@@ -100,7 +102,7 @@ void UartLink::on_frame_register(avr_irq_t* /*irq*/, uint32_t /*value*/, void* p
     static_cast<UartLink*>(param)->apply_chip_timing();
 }
 
-void UartLink::apply_chip_timing() { uart_->cycles_per_byte = chip_cycles_per_byte(core_); }
+void UartLink::apply_chip_timing() { uart_->cycles_per_byte = chip_cycles_per_byte(core_, usart_); }
 
 void UartLink::send(std::string_view bytes) {
     queue_.insert(queue_.end(), bytes.begin(), bytes.end());
@@ -127,6 +129,6 @@ std::string UartLink::text() const {
 
 Cycles UartLink::cycles_per_byte() const { return uart_->cycles_per_byte; }
 
-Cycles UartLink::cycles_per_bit() const { return chip_cycles_per_bit(core_); }
+Cycles UartLink::cycles_per_bit() const { return usart_cycles_per_bit(core_, usart_); }
 
 }  // namespace ddmr::hil

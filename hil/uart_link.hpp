@@ -1,5 +1,6 @@
 #pragma once
-// UartLink: the host end of the firmware's USART0, like a USB-serial adapter.
+// UartLink: the host end of the firmware's console USART (USART0 on the Uno:
+// Serial), like a USB-serial adapter.
 //
 // Signals (simavr UART IRQs of USART '0'):
 //   in  UART_IRQ_OUTPUT    each byte the firmware writes to UDR0, captured with
@@ -39,6 +40,13 @@ enum class UartTiming {
     kChip,    ///< frame time as on the ATmega328P (datasheet section 19)
     kSimavr,  ///< simavr 1.6's own frame time (one extra parity bit)
 };
+
+/// Bit time of `u` in asynchronous mode from its UBRR and U2X [cycles]:
+/// (UBRR + 1) x 16, or x 8 with U2X (ATmega328P datasheet 19.3.1; every
+/// megaAVR USART has the same rule and bit positions).
+unsigned usart_cycles_per_bit(const AvrCore& core, const UsartDesc& u);
+/// RXEN of `u` is set.
+bool usart_receiver_enabled(const AvrCore& core, const UsartDesc& u);
 
 class UartLink {
 public:
@@ -82,6 +90,7 @@ private:
     void apply_chip_timing();
 
     AvrCore& core_;
+    const UsartDesc& usart_;  ///< the board's console USART (USART0 on the Uno)
     avr_uart_t* uart_ = nullptr;
     avr_irq_t* input_irq_ = nullptr;
     bool xon_ = false;

@@ -11,22 +11,24 @@
 #include <stdexcept>
 #include <string>
 
-#include "hil/atmega328p.hpp"
 #include "hil/isr_monitor.hpp"
 
 namespace ddmr::hil {
 namespace {
 
-constexpr char kUartName = '0';
-/// The Uno's serial pins (PD0 = RXD, PD1 = TXD).
-constexpr int kRxPin = 0;
-constexpr int kTxPin = 1;
 /// 8N1: start bit, 8 data bits, stop bit.
 constexpr unsigned kDataBits = 8;
 constexpr unsigned kFrameBits = 1 + kDataBits + 1;
 
 
 std::string pin_name(int pin, const std::string& function) { return "D" + std::to_string(pin) + "_" + function; }
+
+/// The VCD scope of the board's pins: its board-file key, '-' as '_' ("uno", "pro_mini_8mhz").
+std::string board_scope(const BoardDescription& board) {
+    std::string s = board.key;
+    std::replace(s.begin(), s.end(), '-', '_');
+    return s;
+}
 
 }  // namespace
 
@@ -44,14 +46,18 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         bool initial;
         VcdWriter::SignalId* id;
     };
-    std::vector<PinSignal> pins = {{kRxPin, pin_name(kRxPin, "RX"), true, &rx_.signal},
-                                   {kTxPin, pin_name(kTxPin, "TX"), true, &tx_.signal}};
+    // The console USART's pins (the Uno's D0 = RXD, D1 = TXD).
+    const BoardDescription& desc = core_.board();
+    const int rx_pin = pin_number_of(desc, desc.console().rxd).value_or(-1);
+    const int tx_pin = pin_number_of(desc, desc.console().txd).value_or(-1);
+    std::vector<PinSignal> pins = {{rx_pin, pin_name(rx_pin, "RX"), true, &rx_.signal},
+                                   {tx_pin, pin_name(tx_pin, "TX"), true, &tx_.signal}};
     // Encoder outputs, then one signal per driver input pin (a pin shared
     // by both wheels, a dual module's STBY / SLEEP, once).
     encoder_.clear();
     driver_pin_.clear();
     encoder_.reserve(4);
-    driver_pin_.reserve(kUnoPinCount);
+    driver_pin_.reserve(static_cast<std::size_t>(desc.pin_count()));
     for (std::size_t m = 0; m < 2; ++m) {
         const EncoderWiring& e = board.wheel[m].encoder;
         for (unsigned s = 0; s < e.signals(); ++s) {
@@ -61,7 +67,7 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
             const InputWire& in = board.wheel[m].motor.input[r];
             if (!in.used || in.tied_high) continue;
             if (std::any_of(driver_pin_.begin(), driver_pin_.end(), [&](const PinTrace& t) { return t.pin == in.pin; })) continue;
-            const bool timer = uno_pin(in.pin)->oc.has_value();
+            const bool timer = board_pin(desc, in.pin)->oc.has_value();
             driver_pin_.push_back(PinTrace{in.pin, 0, rig_.driver().pins().level_at(in.pin, now), timer});
         }
     }
@@ -83,11 +89,13 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         }
     }
     std::stable_sort(pins.begin(), pins.end(), [](const PinSignal& a, const PinSignal& b) { return a.pin < b.pin; });
-    for (const PinSignal& p : pins) *p.id = writer_.add_wire("uno", p.name, p.initial);
+    const std::string scope = board_scope(desc);
+    for (const PinSignal& p : pins) *p.id = writer_.add_wire(scope, p.name, p.initial);
 
     avr_t* avr = core_.raw();
-    isr_.reserve(atmega328p::kVectorCount);
-    for (int v = 1; v < atmega328p::kVectorCount; ++v) {
+    const McuDescription& mcu = core_.mcu();
+    isr_.reserve(static_cast<std::size_t>(mcu.vector_count()));
+    for (int v = 1; v < mcu.vector_count(); ++v) {
         const std::string handler = vector_handler_name(core_, elf, v);
         if (handler == kNoHandler || handler == "?") continue;
         avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(v));
@@ -95,17 +103,17 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         IsrHook h;
         h.self = this;
         h.running = irqs + AVR_INT_IRQ_RUNNING;
-        h.signal = writer_.add_wire("isr", std::string("isr_") + atmega328p::vector::kNames[static_cast<std::size_t>(v)],
-                                    false);
+        h.signal = writer_.add_wire("isr", "isr_" + mcu.vector_name(v), false);
         isr_.push_back(h);
     }
     loop_ = writer_.add_vector("firmware", "loop_iteration", 32, 0);
 
     writer_.add_comment("ddmr-hil HIL run; time in ns of AVR time (cycle x 1e9 / " +
                         std::to_string(core_.clock_hz()) + " Hz, rounded down)");
-    writer_.add_comment("uno.*_RX/_TX: synthesised 8N1 serial frames, idle high; D<pin>_<wheel>_OUT/A/B: injected encoder edges");
-    writer_.add_comment("uno.D<pin>_<wheel>_<input>: motor driver inputs; on a timer pin the waveform the plant is "
-                        "driven with (decoded from the timer registers), elsewhere the PORT bit at its write");
+    writer_.add_comment(scope + ".*_RX/_TX: synthesised 8N1 serial frames, idle high; D<pin>_<wheel>_OUT/A/B: injected "
+                                "encoder edges");
+    writer_.add_comment(scope + ".D<pin>_<wheel>_<input>: motor driver inputs; on a timer pin the waveform the plant is "
+                                "driven with (decoded from the timer registers), elsewhere the PORT bit at its write");
     writer_.add_comment("isr.isr_*: 1 from the vector's entry to the end of its RETI");
     writer_.add_comment(profiler_ != nullptr
                             ? "firmware.loop_iteration: exact, +1 at each return of the loop mark (LoopProfiler)"
@@ -115,15 +123,15 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
 
     // Hooks. The rig's parts report through their listeners; simavr IRQs for the rest.
     for (IsrHook& h : isr_) avr_irq_register_notify(h.running, &VcdRecorder::on_isr, &h);
-    avr_irq_t* uart = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(kUartName), 0);
-    if (uart == nullptr) throw std::runtime_error("VcdRecorder: simavr USART0 has no IRQs");
+    avr_irq_t* uart = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(console_uart_name(desc)), 0);
+    if (uart == nullptr) throw std::runtime_error("VcdRecorder: simavr's console USART has no IRQs");
     tx_irq_ = uart + UART_IRQ_OUTPUT;
     rx_irq_ = uart + UART_IRQ_INPUT;
     avr_irq_register_notify(tx_irq_, &VcdRecorder::on_tx, this);
     avr_irq_register_notify(rx_irq_, &VcdRecorder::on_rx, this);
     for (const PinTrace& t : driver_pin_) {
         if (t.timer_capable) continue;  // drawn as the plant is driven (step listener)
-        const uint16_t port = uno_pin(t.pin)->port_register;
+        const uint16_t port = board_pin(desc, t.pin)->port_register;
         avr_irq_t* irq = avr_iomem_getirq(avr, port, nullptr, AVR_IOMEM_IRQ_ALL);
         if (irq == nullptr) throw std::runtime_error("VcdRecorder: simavr gave no IRQ for register " + std::to_string(port));
         if (std::find(port_irqs_.begin(), port_irqs_.end(), irq) != port_irqs_.end()) continue;
@@ -156,7 +164,7 @@ void VcdRecorder::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     }
     if (h->depth == 0) return;  // a RETI whose entry came before the recorder
     // simavr reports RETI before it charges RETI's cycles (as IsrMonitor counts).
-    if (--h->depth == 0) self->writer_.change(h->signal, self->core_.cycle() + atmega328p::kRetiCycles, 0);
+    if (--h->depth == 0) self->writer_.change(h->signal, self->core_.cycle() + self->core_.mcu().reti_cycles, 0);
 }
 
 void VcdRecorder::on_tx(avr_irq_t* /*irq*/, uint32_t value, void* param) {

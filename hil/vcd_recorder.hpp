@@ -5,11 +5,11 @@
 // Signals (scope.name; pins named D<Uno pin>_<wheel>_<input> from the
 // board's wiring, e.g. with the default board D10_right_PWM, D12_right_DIR,
 // D2_right_OUT):
-//   uno.D0_RX          host -> firmware serial line: idle high, each byte the
+//   <board>.D0_RX        host -> firmware serial line: idle high, each byte the
 //                      UartLink delivers (UART_IRQ_INPUT) as start bit, 8 data
 //                      bits LSB first, stop bit, at UartLink::cycles_per_bit()
 //                      from the delivery cycle (frames queue, never overlap)
-//   uno.D1_TX          firmware -> host, the same from the cycle the firmware
+//   <board>.D1_TX        firmware -> host, the same from the cycle the firmware
 //                      wrote UDR0 (UART_IRQ_OUTPUT); both lines are drawn
 //                      idle high from reset and as 8N1, the sketch's framing
 //   encoder pins       (_OUT, _A, _B) each EncoderInjector edge at the cycle

@@ -58,8 +58,8 @@ struct VcdWindow {
 };
 
 struct VcdConfig {
-    uint32_t clock_hz = atmega328p::kClockHz;  ///< AVR clock [Hz], > 0
-    std::string top_scope = "ddmr_hil";        ///< enclosing $scope module
+    uint32_t clock_hz = 0;                ///< the board's clock [Hz], > 0 (AvrCore::clock_hz())
+    std::string top_scope = "ddmr_hil";  ///< enclosing $scope module
     VcdWindow window{};
 };
 

@@ -261,13 +261,16 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     if (o.board_file) c.board = hil::load_board_file(*o.board_file);
     c.coupler.mode = o.pwm;
     // PlantCoupler checks this too; here the message names the option.
-    const Cycles truth_period = c.coupler.truth_period_cycles;
-    if (o.coupling_step_cycles == 0 || truth_period % o.coupling_step_cycles != 0) {
-        throw std::invalid_argument(fmt::format(
-            "--coupling-step {} cycles: must divide the {}-cycle truth period", o.coupling_step_cycles,
-            truth_period));
-    }
     c.coupler.step_cycles = o.coupling_step_cycles;
+    // PlantCoupler checks this too; here the message names the option and the board.
+    const hil::BoardDescription& board = hil::board_description(c.board.model);
+    const hil::CouplerConfig coupler = hil::resolved(c.coupler, board.clock_hz);
+    if (coupler.truth_period_cycles % coupler.step_cycles != 0) {
+        throw std::invalid_argument(fmt::format("--coupling-step {} cycles: must divide the {}-cycle (1 ms) truth "
+                                                "period of the {} at {} MHz",
+                                                coupler.step_cycles, coupler.truth_period_cycles, board.label,
+                                                board.clock_hz / 1e6));
+    }
     c.eeprom_timing = o.eeprom_timing;
     c.uart_timing = o.uart_timing;
     return c;
@@ -293,7 +296,7 @@ const char* to_string(RunExit exit) {
     return "unknown";
 }
 
-FirmwareRunOptions::Send parse_send(const std::string& spec, uint32_t clock_hz) {
+FirmwareRunOptions::Send parse_send(const std::string& spec) {
     const auto at = spec.rfind('@');
     if (at == std::string::npos) throw std::invalid_argument("--send '" + spec + "': expected TEXT@TIME, e.g. 1@2s");
     const std::string text = spec.substr(0, at);
@@ -336,7 +339,7 @@ FirmwareRunOptions::Send parse_send(const std::string& spec, uint32_t clock_hz) 
         throw std::invalid_argument("--send '" + spec + "': TIME '" + time +
                                     "' must be a non-negative number with a unit: s, ms or us (e.g. 2s)");
     }
-    s.at_cycle = hil::s_to_cycles(value * scale, clock_hz);
+    s.at_s = value * scale;
     return s;
 }
 
@@ -375,8 +378,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     }
     const hil::ElfImage elf = hil::ElfImage::read(options.firmware);
-    elf.require_atmega328p();
-    hil::AvrCore::check_loadable(elf);
+    const hil::RigConfig config = rig_config(options);  // the board file's errors first
+    const hil::BoardDescription& board = hil::board_description(config.board.model);
+    elf.require_mcu(*board.mcu, board.key);
+    hil::AvrCore::check_loadable(elf, *board.mcu);
     // What the contract names must be in the ELF (checked before anything is written).
     std::optional<hil::ElfSymbol> ready;
     std::string ready_symbol;
@@ -426,11 +431,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     }
     std::vector<FirmwareRunOptions::Send> sends = options.sends;
-    std::stable_sort(sends.begin(), sends.end(),
-                     [](const auto& a, const auto& b) { return a.at_cycle < b.at_cycle; });
+    std::stable_sort(sends.begin(), sends.end(), [](const auto& a, const auto& b) { return a.at_s < b.at_s; });
     std::optional<hil::EepromImage> preload;
     if (options.eeprom_preload) preload = hil::EepromPort::load_image(*options.eeprom_preload);
-    const hil::RigConfig config = rig_config(options);
     const std::string sha256 = sha256_file_hex(options.firmware);
 
     auto wall_start = std::chrono::steady_clock::now();
@@ -713,8 +716,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     // --send bytes go out at their times (those due during the reference
     // sketch's boot at its ready point, with the case byte).
     std::size_t next_send = 0;
+    const auto send_cycle = [&](std::size_t i) { return hil::s_to_cycles(sends[i].at_s, core.clock_hz()); };
     const auto send_due = [&] {
-        for (; next_send < sends.size() && sends[next_send].at_cycle <= core.cycle(); ++next_send) {
+        for (; next_send < sends.size() && send_cycle(next_send) <= core.cycle(); ++next_send) {
             host_sends(sends[next_send].bytes);
         }
     };
@@ -755,7 +759,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             send_due();
             if (!started && start_at && core.cycle() >= *start_at) send_start();
             Cycles next = std::min(limit, next_progress);
-            if (next_send < sends.size()) next = std::min(next, sends[next_send].at_cycle);
+            if (next_send < sends.size()) next = std::min(next, send_cycle(next_send));
             if (!started && start_at) next = std::min(next, *start_at);
             stop = core.run_until(next);
             if (gdb) gdb->release_if_detached();  // back to full speed once gdb has left
@@ -774,6 +778,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     if (!field_line.empty()) match_fields();  // a last line without '\n'
     result.cycles_total = core.cycle();
+    result.clock_hz = core.clock_hz();
     if (vcd) vcd->finish();
     result.wall_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
@@ -904,7 +909,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         {"plant_file", options.plant_file ? options.plant_file->string() : "(embedded defaults)"},
         {"pwm", options.pwm == plant::DriveMode::switched ? "switched" : "averaged"},
         {"eeprom_timing", options.eeprom_timing == hil::EepromTimingMode::kDatasheet ? "datasheet" : "instant"},
-        {"coupling_step_cycles", options.coupling_step_cycles},
+        {"coupling_step_cycles", rig.coupler().config().step_cycles},
         {"max_input_latency_cycles", rig.coupler().max_input_latency_cycles()},
         {"cycles_total", result.cycles_total},
         {"clock_hz", core.clock_hz()},
@@ -921,7 +926,12 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
           {"bytes_not_delivered", uart.pending()},
           {"adapter_baud", adapter ? json(adapter->baud()) : json(nullptr)},
           {"framing_errors", adapter ? json(adapter->framing_errors()) : json(nullptr)}}},
-        {"board", {{"file", config.board.source}, {"wiring_warnings", wiring_warnings}}},
+        {"board",
+         {{"file", config.board.source},
+          {"name", core.board().key},
+          {"mcu", core.mcu().name},
+          {"clock_hz", core.clock_hz()},
+          {"wiring_warnings", wiring_warnings}}},
         {"encoder", encoder},
         {"end_pose_truth", pose_json(result.end_pose_truth)},
         {"end_pose_firmware", result.end_pose_firmware ? pose_json(*result.end_pose_firmware) : json(nullptr)},

@@ -77,7 +77,7 @@ struct FirmwareRunOptions {
     /// Bytes sent to the firmware's RX at an AVR time (--send TEXT@TIME).
     struct Send {
         std::string bytes;
-        hil::Cycles at_cycle = 0;
+        double at_s = 0.0;  ///< AVR time [s] (cycles at the board's clock)
     };
     std::vector<Send> sends;
     /// --baud: the host's serial adapter runs at this rate (8N1) and decodes
@@ -90,7 +90,8 @@ struct FirmwareRunOptions {
     std::optional<std::filesystem::path> board_file;  ///< board YAML (overrides the plant file's)
     plant::DriveMode pwm = plant::DriveMode::switched;
     hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
-    hil::Cycles coupling_step_cycles = 1000;  ///< plant step [cycles] = max input latency
+    /// Plant step [cycles] = max input latency; 0: 62.5 us of the board's clock (1000 cycles at 16 MHz).
+    hil::Cycles coupling_step_cycles = 0;
     bool profile = false;                 ///< exact loop cycle counts (single-steps: slower)
     std::string loop_mark = "delay";      ///< the function each loop iteration calls once
     bool loop_mark_given = false;         ///< --loop-mark given (else: delay for the reference, loop() otherwise)
@@ -126,8 +127,8 @@ enum class RunExit {
 };
 
 /// "TEXT@TIME" (C escapes \r \n \t \\ \xHH in TEXT; TIME with a unit: 2s,
-/// 500ms, 250us) -> bytes and AVR cycle. Throws std::invalid_argument naming it.
-FirmwareRunOptions::Send parse_send(const std::string& spec, uint32_t clock_hz);
+/// 500ms, 250us) -> bytes and AVR time. Throws std::invalid_argument naming it.
+FirmwareRunOptions::Send parse_send(const std::string& spec);
 
 const char* to_string(RunExit exit);
 
@@ -135,6 +136,7 @@ struct FirmwareRunResult {
     RunExit exit = RunExit::kTimeout;
     std::string message;          ///< one line for stderr when exit != kReportComplete
     hil::Cycles cycles_total = 0;
+    uint32_t clock_hz = 0;  ///< the board's clock: cycles_total / clock_hz = simulated seconds
     std::optional<hil::Cycles> ready_cycle;  ///< when the case byte was sent
     double wall_seconds = 0.0;
     uint64_t uart_bytes = 0;      ///< bytes the firmware sent, all of them in uart.txt

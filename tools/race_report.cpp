@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "hil/atmega328p.hpp"
 #include "common/source_lines.hpp"
 #include "hil/data_objects.hpp"
 
@@ -14,10 +13,10 @@ namespace {
 
 using nlohmann::json;
 
-std::vector<std::string> vector_names(uint32_t mask) {
+std::vector<std::string> vector_names(hil::VectorMask mask, const hil::McuDescription& mcu) {
     std::vector<std::string> out;
-    for (int v = 1; v < hil::atmega328p::kVectorCount; ++v) {
-        if ((mask & (1U << static_cast<unsigned>(v))) != 0) out.emplace_back(hil::atmega328p::vector::kNames[static_cast<std::size_t>(v)]);
+    for (int v = 1; v < mcu.vector_count(); ++v) {
+        if ((mask & (hil::VectorMask{1} << static_cast<unsigned>(v))) != 0) out.push_back(mcu.vector_name(v));
     }
     return out;
 }
@@ -29,10 +28,10 @@ std::string joined(const std::vector<std::string>& v) {
     return s;
 }
 
-uint32_t split_vectors(const hil::SplitAccess& a) {
-    uint32_t m = 0;
+hil::VectorMask split_vectors(const hil::SplitAccess& a) {
+    hil::VectorMask m = 0;
     for (std::size_t v = 0; v < a.splits.size(); ++v) {
-        if (a.splits[v] != 0) m |= 1U << v;
+        if (a.splits[v] != 0) m |= hil::VectorMask{1} << v;
     }
     return m;
 }
@@ -85,7 +84,8 @@ json races_json(const hil::RaceDetector& races, const CodeNames& names) {
     for (const auto& s : races.shared()) {
         const auto& o = objects[s.object];
         json v = {{"variable", o.name}, {"address", o.address}, {"size", o.size},
-                  {"isr_writers", vector_names(s.isr_writers)}, {"isr_readers", vector_names(s.isr_readers)}};
+                  {"isr_writers", vector_names(s.isr_writers, races.mcu())},
+                  {"isr_readers", vector_names(s.isr_readers, races.mcu())}};
         if (names.functions != nullptr) {
             v["main_loads"] = races.main_sites(s.object, false, *names.functions).size();
             v["main_stores"] = races.main_sites(s.object, true, *names.functions).size();
@@ -115,7 +115,7 @@ json races_json(const hil::RaceDetector& races, const CodeNames& names) {
                         {"pc", a->pc},
                         {"pc_hex", fmt::format("0x{:04x}", a->pc)},
                         {"source", source_or_null(a->pc)},
-                        {"split_by", vector_names(split_vectors(*a))},
+                        {"split_by", vector_names(split_vectors(*a), races.mcu())},
                         {"splits", races.race_splits(*a)},
                         {"torn", a->torn},
                         {"observed", a->observed},
@@ -135,7 +135,7 @@ json races_json(const hil::RaceDetector& races, const CodeNames& names) {
                          {"loop_end_pc", s.where.loop_end},
                          {"loop_source", source_or_null(s.where.loop_begin)},
                          {"writes_missed", s.writes_missed},
-                         {"writers", vector_names(s.vectors)},
+                         {"writers", vector_names(s.vectors, races.mcu())},
                          {"first_cycle", s.first_cycle}});
     }
     uint64_t observed = 0;
@@ -187,8 +187,9 @@ std::string races_markdown(const hil::RaceDetector& races, const CodeNames& name
                 sites = fmt::format("{} / {}", races.main_sites(s.object, false, *names.functions).size(),
                                     races.main_sites(s.object, true, *names.functions).size());
             }
-            md += fmt::format("| `{}` | {} | {} | {} | {} |\n", o.name, o.size, joined(vector_names(s.isr_writers)),
-                              joined(vector_names(s.isr_readers)), sites);
+            md += fmt::format("| `{}` | {} | {} | {} | {} |\n", o.name, o.size,
+                              joined(vector_names(s.isr_writers, races.mcu())),
+                              joined(vector_names(s.isr_readers, races.mcu())), sites);
         }
     }
     md += "\n### Torn accesses\n\n";
@@ -208,7 +209,7 @@ std::string races_markdown(const hil::RaceDetector& races, const CodeNames& name
             const std::string line = names.line(a->pc);
             md += fmt::format("| `{}` | {} | {} | `{}` | 0x{:04x} | {} | {} | {} | {} | {} |\n", o.name, o.size,
                               kind_name(a->kind), names.function(a->pc), a->pc, line.empty() ? "-" : line,
-                              joined(vector_names(split_vectors(*a))), races.race_splits(*a), a->torn,
+                              joined(vector_names(split_vectors(*a), races.mcu())), races.race_splits(*a), a->torn,
                               a->observed > 0 ? fmt::format("observed ({}x)", a->observed) : "possible");
         }
         for (const hil::SplitAccess* a : torn) {
@@ -242,14 +243,14 @@ std::string races_markdown(const hil::RaceDetector& races, const CodeNames& name
             md += fmt::format("| `{}` | {} | `{}` | {} | {}..0x{:04x} | {} | {} | {} |\n", o.name, o.size,
                               names.function(s.where.loop_begin), where(s.where.load_pc), where(s.where.loop_begin),
                               s.where.loop_end, register_name(s.where.reg), s.writes_missed,
-                              joined(vector_names(s.vectors)));
+                              joined(vector_names(s.vectors, races.mcu())));
         }
     }
     return md;
 }
 
 RaceReport race_report(const hil::RaceDetector& races, const hil::ElfImage& elf) {
-    const hil::FunctionMap code_map(elf);
+    const hil::FunctionMap code_map(elf, races.mcu());
     CodeNames names{&code_map, {}};
     try {
         names.lines = source_lines(elf.path(), race_report_pcs(races, code_map));

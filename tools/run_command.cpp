@@ -8,7 +8,6 @@
 
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
-#include "hil/atmega328p.hpp"
 #include "hil/plant_coupler.hpp"
 
 namespace ddmr::tools {
@@ -96,10 +95,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->check(CLI::IsMember({"datasheet", "instant"}))
         ->capture_default_str();
     sub->add_option("--coupling-step", cli->options.coupling_step_cycles,
-                    "Plant step [AVR cycles]: the largest input latency; must divide the " +
-                        std::to_string(hil::CouplerConfig{}.truth_period_cycles) + "-cycle (1 ms) truth period")
-        ->check(CLI::Range(hil::Cycles{1}, hil::CouplerConfig{}.truth_period_cycles))
-        ->capture_default_str();
+                    "Plant step [AVR cycles]: the largest input latency; must divide the 1 ms truth period "
+                    "(16000 cycles at 16 MHz) [default: 62.5 us: 1000 cycles at 16 MHz, 500 at 8 MHz]")
+        ->check(CLI::Range(hil::Cycles{1}, hil::Cycles{1'000'000}));
     sub->add_flag("--progress", cli->progress, "Print progress every simulated second (default when "
                                                "stderr is a terminal)");
     sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
@@ -156,7 +154,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
             o.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract
         }
         o.loop_mark_given = cli->loop_mark_option->count() > 0;
-        for (const std::string& spec : cli->sends) o.sends.push_back(parse_send(spec, hil::atmega328p::kClockHz));
+        for (const std::string& spec : cli->sends) o.sends.push_back(parse_send(spec));
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
         if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
         if (!cli->board_file.empty()) o.board_file = cli->board_file;
@@ -167,7 +165,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         o.progress = !cli->quiet && (cli->progress || ::isatty(STDERR_FILENO) != 0);
         if (cli->gdb_port != 0) o.gdb_port = static_cast<uint16_t>(cli->gdb_port);
         const FirmwareRunResult r = run_firmware(o);
-        const double sim_s = hil::cycles_to_s(r.cycles_total);
+        const double sim_s = hil::cycles_to_s(r.cycles_total, r.clock_hz);
         std::printf("%s: %s after %.3f simulated s (%llu cycles) in %.2f s wall, %.1f Mcycles/s\n",
                     o.out_dir.c_str(), to_string(r.exit), sim_s,
                     static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
@@ -218,9 +216,10 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
             const double n = static_cast<double>(r.loop_profile.size());
             std::printf("loop profile: %zu iterations, compute mean %.1f us (max %.1f us), period mean %.3f ms "
                         "(max %.3f ms); details in loop_profile.csv and summary.json\n",
-                        r.loop_profile.size(), hil::cycles_to_s(sum_compute) / n * 1e6,
-                        hil::cycles_to_s(max_compute) * 1e6, hil::cycles_to_s(sum_period) / n * 1e3,
-                        hil::cycles_to_s(max_period) * 1e3);
+                        r.loop_profile.size(), hil::cycles_to_s(sum_compute, r.clock_hz) / n * 1e6,
+                        hil::cycles_to_s(max_compute, r.clock_hz) * 1e6,
+                        hil::cycles_to_s(sum_period, r.clock_hz) / n * 1e3,
+                        hil::cycles_to_s(max_period, r.clock_hz) * 1e3);
             if (r.eeprom_writes > r.eeprom_writes_recorded) {
                 std::printf("loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
                             "the last of them are not tagged eeprom_write\n",

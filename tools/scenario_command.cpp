@@ -58,7 +58,9 @@ sc::LoadOptions load_options(const ScenarioCli& cli) {
 
 sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
     sc::Scenario s = sc::load_scenario(file, load_options(cli));
-    if (s.sketch) s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache(), hil::board_fqbn(s.board.model));
+    if (s.sketch) {
+        s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache(), hil::board_description(s.board.model).fqbn);
+    }
     sc::check_firmware_names(s);
     return s;
 }
@@ -112,8 +114,9 @@ int run_suite(const ScenarioCli& cli) {
                                                     f, scenarios.back().name));
         }
         const hil::ElfImage elf = hil::ElfImage::read(scenarios.back().firmware);
-        elf.require_atmega328p();
-        hil::AvrCore::check_loadable(elf);
+        const hil::BoardDescription& board = hil::board_description(scenarios.back().board.model);
+        elf.require_mcu(*board.mcu, board.key);
+        hil::AvrCore::check_loadable(elf, *board.mcu);
     }
     // --shard I/N keeps every N-th scenario of the suite's order, from the I-th.
     std::vector<std::string> suite_names;

@@ -53,6 +53,7 @@
 #include "hil/firmware_report.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/uart_link.hpp"
+#include "support/uno_board.hpp"
 
 extern char** environ;
 
@@ -91,7 +92,7 @@ void BM_BareSimavrDefaultLoop(benchmark::State& state) {
         Toggler t{&core, avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ('D')), 2),
                   avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ('D')), 3)};
         avr_cycle_timer_register(avr, 6000, &toggle, &t);
-        const Cycles end = hil::s_to_cycles(kSimulatedS);
+        const Cycles end = hil::s_to_cycles(kSimulatedS, ddmr::test::kUnoClockHz);
         while (avr->cycle < end) {
             const int s = avr_run(avr);
             if (s == cpu_Done || s == cpu_Crashed) break;
@@ -114,7 +115,7 @@ void BM_FullHilCase1(benchmark::State& state) {
             parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
             if (parser.complete()) rig.core().request_stop();
         });
-        const Cycles limit = hil::s_to_cycles(40.0);
+        const Cycles limit = hil::s_to_cycles(40.0, ddmr::test::kUnoClockHz);
         rig.core().run_until_return_from(elf.require("delay"), limit);
         rig.uart().send("1");
         rig.core().run_until(limit);

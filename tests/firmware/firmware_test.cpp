@@ -23,7 +23,7 @@ TEST(Firmware, SketchIsByteIdenticalToTheReference) {
 
 TEST(Firmware, ElfIsForTheAtmega328p) {
     const auto elf = hil::ElfImage::read(firmware_elf());
-    EXPECT_NO_THROW(elf.require_atmega328p());
+    EXPECT_NO_THROW(elf.require_mcu(hil::atmega328p_mcu()));
     // The thesis (ch. 6) reports about 30 % of the Uno's 32256 usable bytes.
     const double flash_share = elf.memory_use().flash_bytes() / 32256.0;
     EXPECT_GT(flash_share, 0.28);

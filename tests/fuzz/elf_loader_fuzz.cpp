@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     try {
         const auto elf = ddmr::hil::ElfImage::read(path);
-        elf.require_atmega328p();
+        elf.require_mcu(ddmr::hil::atmega328p_mcu());
         ddmr::hil::AvrCore core(elf);
         core.run_until(1000);
     } catch (const std::exception&) {

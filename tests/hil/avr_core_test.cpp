@@ -8,6 +8,7 @@
 #include "hil/uart_link.hpp"
 #include "support/reference_run.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -48,7 +49,7 @@ TEST(AvrCore, TheStepWatchSeesEveryInstructionAcrossRunUntilCalls) {
 TEST(AvrCore, SetupReturnsFromItsFiveSecondDelay) {
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core(elf);
-    const auto stop = core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0));
+    const auto stop = core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz));
     ASSERT_EQ(stop, hil::RunStop::kCondition);
     // delay(5000) is called a fraction of a millisecond after reset (init(),
     // pinMode, attachInterrupt, Serial.begin) and lasts 5000 ms of timer-0
@@ -80,7 +81,7 @@ TEST(AvrCore, ResetRestartsTheFirmwareAndKeepsTimeAndEeprom) {
     eeprom.preload(image);
     int calls = 0;
     core.add_reset_listener(&calls, [&calls] { ++calls; });
-    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)), hil::RunStop::kCondition);
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)), hil::RunStop::kCondition);
     const hil::Cycles before = core.cycle();
     core.stop_after(1000);  // a cycle timer: a reset cancels it
     core.reset();
@@ -93,10 +94,10 @@ TEST(AvrCore, ResetRestartsTheFirmwareAndKeepsTimeAndEeprom) {
     EXPECT_EQ(core.run_until(before + 5000), hil::RunStop::kReachedCycle);  // the stop timer is gone
     EXPECT_EQ(eeprom.read_all()[7], 0x42);
     // The firmware boots again: setup()'s delay(5000) returns 5 s after the reset.
-    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), before + hil::s_to_cycles(6.0)),
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), before + hil::s_to_cycles(6.0, kUnoClockHz)),
               hil::RunStop::kCondition);
-    EXPECT_GT(core.seconds() - hil::cycles_to_s(before), 5.0);
-    EXPECT_LT(core.seconds() - hil::cycles_to_s(before), 5.002);
+    EXPECT_GT(core.seconds() - hil::cycles_to_s(before, kUnoClockHz), 5.0);
+    EXPECT_LT(core.seconds() - hil::cycles_to_s(before, kUnoClockHz), 5.002);
     core.remove_reset_listener(&calls);
     core.reset();
     EXPECT_EQ(calls, 1);
@@ -107,9 +108,9 @@ TEST(AvrCore, Case1PrintsItsBannerThenEndAfterBootingSixSeconds) {
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core(elf);
     hil::UartLink uart(core);
-    core.run_until(hil::s_to_cycles(6.0));
+    core.run_until(hil::s_to_cycles(6.0, kUnoClockHz));
     uart.send("1");
-    core.run_until(hil::s_to_cycles(6.0 + 13.0));
+    core.run_until(hil::s_to_cycles(6.0 + 13.0, kUnoClockHz));
     const std::string text = uart.text();
     const auto banner = text.find("0.6m\r\n");
     ASSERT_NE(banner, std::string::npos) << text;
@@ -118,7 +119,7 @@ TEST(AvrCore, Case1PrintsItsBannerThenEndAfterBootingSixSeconds) {
     EXPECT_LT(banner, end);
     // 1200 iterations of at least 9 ms (delay(9)) lie between the two.
     const auto end_byte = uart.received()[end];
-    EXPECT_GT(hil::cycles_to_s(end_byte.cycle), 6.0 + 1200 * 0.009);
+    EXPECT_GT(hil::cycles_to_s(end_byte.cycle, kUnoClockHz), 6.0 + 1200 * 0.009);
 }
 
 TEST(AvrCore, Case2PrintsItsBanner) {
@@ -132,9 +133,9 @@ TEST(AvrCore, AnyOtherByteIsAnsweredWithX) {
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core(elf);
     hil::UartLink uart(core);
-    core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0));
+    core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz));
     uart.send("3");
-    core.run_until(core.cycle() + hil::s_to_cycles(0.01));
+    core.run_until(core.cycle() + hil::s_to_cycles(0.01, kUnoClockHz));
     EXPECT_EQ(uart.text(), "X\r\n");
 }
 

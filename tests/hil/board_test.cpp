@@ -5,7 +5,6 @@
 
 #include <fstream>
 
-#include "hil/uno_pins.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
 
@@ -54,38 +53,6 @@ TEST(Board, DefaultIsTheThesisRobotAndEqualsTheShippedFile) {
         EXPECT_EQ(f.wheel[m].encoder.pin, b.wheel[m].encoder.pin);
         EXPECT_EQ(f.wheel[m].motor.reversed, b.wheel[m].motor.reversed);
     }
-}
-
-TEST(UnoPins, SilkscreenNamesMapToPortsTimersAndInterrupts) {
-    // Datasheet Figure 1-1 and the Arduino core's variants/standard.
-    EXPECT_EQ(hil::uno_pin(2)->port, 'D');
-    EXPECT_EQ(hil::uno_pin(2)->bit, 2);
-    EXPECT_EQ(*hil::uno_pin(2)->ext_int, 0);
-    EXPECT_EQ(*hil::uno_pin(3)->ext_int, 1);
-    EXPECT_EQ(hil::uno_pin(10)->port, 'B');
-    EXPECT_EQ(hil::uno_pin(10)->bit, 2);
-    EXPECT_EQ(hil::uno_pin(10)->ddr_register, 0x24);
-    EXPECT_EQ(hil::uno_pin(10)->port_register, 0x25);
-    EXPECT_EQ(hil::oc_name(*hil::uno_pin(10)->oc), "OC1B");
-    EXPECT_EQ(hil::oc_name(*hil::uno_pin(5)->oc), "OC0B");
-    EXPECT_EQ(hil::oc_name(*hil::uno_pin(6)->oc), "OC0A");
-    EXPECT_EQ(hil::oc_name(*hil::uno_pin(3)->oc), "OC2B");
-    EXPECT_FALSE(hil::uno_pin(4)->oc.has_value());
-    EXPECT_EQ(hil::uno_pin(18)->port, 'C');  // A4 = PC4, PCINT12 in group 1
-    EXPECT_EQ(hil::uno_pin(18)->pcint_group, 1);
-    EXPECT_EQ(hil::uno_pin(18)->pin_register, 0x26);
-    EXPECT_EQ(hil::uno_pin(8)->pcint_group, 0);
-    EXPECT_EQ(hil::uno_pin(7)->pcint_group, 2);
-    EXPECT_FALSE(hil::uno_pin(20).has_value());
-    EXPECT_EQ(*hil::parse_uno_pin_name("A5"), 19);
-    EXPECT_EQ(*hil::parse_uno_pin_name("14"), 14);
-    EXPECT_EQ(*hil::parse_uno_pin_name("D7"), 7);
-    EXPECT_FALSE(hil::parse_uno_pin_name("A6").has_value());  // Nano: analog only
-    EXPECT_FALSE(hil::parse_uno_pin_name("20").has_value());
-    EXPECT_EQ(hil::uno_pin_label(5), "D5");
-    EXPECT_EQ(hil::sketch_pin_name(5), "5");  // as a sketch writes it
-    EXPECT_EQ(hil::sketch_pin_name(14), "A0");
-    EXPECT_FALSE(hil::parse_uno_pin_name("x").has_value());
 }
 
 TEST(Board, EveryDriverTypeAndEncoderTypeLoads) {

@@ -11,6 +11,7 @@
 #include "hil/uart_link.hpp"
 #include "support/square_wave_input.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -124,13 +125,13 @@ TEST(EepromLog, TimingComesFromTheXByteWrites) {
     // (before the origin) are ignored.
     const std::vector<hil::EepromWrite> writes = {
         {500, 40, 1}, {1'601'000, 0, 7}, {1'653'736, 500, 0}, {3'201'000, 2, 14}, {3'253'736, 502, 1}};
-    const auto t = hil::eeprom_log_timing(writes, 1'000);
+    const auto t = hil::eeprom_log_timing(writes, 1'000, kUnoClockHz);
     EXPECT_EQ(t.sample_count, 2);
     ASSERT_EQ(t.times_s.size(), 2u);
     EXPECT_DOUBLE_EQ(t.times_s[0], 0.1);
     EXPECT_DOUBLE_EQ(t.times_s[1], 0.2);
     // Sample 1 written without sample 0: a gap.
-    EXPECT_THROW((void)hil::eeprom_log_timing({{1'601'000, 2, 7}}, 0), std::invalid_argument);
+    EXPECT_THROW((void)hil::eeprom_log_timing({{1'601'000, 2, 7}}, 0, kUnoClockHz), std::invalid_argument);
 }
 
 TEST(EepromLog, DecodesTheFirmwaresLogOfAKnownTurn) {
@@ -152,18 +153,18 @@ TEST(EepromLog, DecodesTheFirmwaresLogOfAKnownTurn) {
         parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
         if (parser.complete() || parser.error()) core.request_stop();
     });
-    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)),
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)),
               hil::RunStop::kCondition);
     SquareWaveInput left(core, 'D', 2, 25'000);   // 16e6 / 25,000 = 640 edges/s
     SquareWaveInput right(core, 'D', 3, 32'000);  // 16e6 / 32,000 = 500 edges/s
     const auto origin = core.cycle();
     uart.send("1");
-    core.run_until(origin + hil::s_to_cycles(20.0));
+    core.run_until(origin + hil::s_to_cycles(20.0, kUnoClockHz));
     ASSERT_TRUE(parser.complete()) << uart.text();
     const auto& report = parser.report();
 
     // 1200 iterations, a log call every 10: 120 samples; the sketch prints addr = 240.
-    const auto timing_of_log = hil::eeprom_log_timing(timing.writes(), origin);
+    const auto timing_of_log = hil::eeprom_log_timing(timing.writes(), origin, kUnoClockHz);
     ASSERT_EQ(timing_of_log.sample_count, 120);
     EXPECT_EQ(report.addr.value_or(-1), 2.0 * timing_of_log.sample_count);
     const auto log = hil::decode_eeprom_log(eeprom.read_all(), timing_of_log.sample_count,

@@ -10,6 +10,7 @@
 #include "hil/uart_link.hpp"
 #include "support/square_wave_input.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -41,7 +42,7 @@ Case1Writes run_case1_until_writes(EepromTimingMode mode, std::size_t write_coun
         if (timing.writes().size() >= write_count) core.request_stop();
     });
     Case1Writes out;
-    if (core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)) !=
+    if (core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)) !=
         hil::RunStop::kCondition) {
         return out;
     }
@@ -52,7 +53,7 @@ Case1Writes run_case1_until_writes(EepromTimingMode mode, std::size_t write_coun
     }
     out.case_start_cycle = core.cycle();
     uart.send("1");
-    core.run_until(core.cycle() + hil::s_to_cycles(2.0));
+    core.run_until(core.cycle() + hil::s_to_cycles(2.0, kUnoClockHz));
     out.writes = timing.writes();
     out.eeprom = eeprom.read_all();
     out.busy_cycles_total = timing.busy_cycles_total();
@@ -64,7 +65,7 @@ TEST(EepromWriteTiming, WriteTimeIsTable8_2AtTheUnoClock) {
     // 26,368 RC-oscillator cycles at 8 MHz = 3.296 ms = 52,736 cycles at 16 MHz.
     EXPECT_EQ(kEepromWriteCycles, 52'736u);
     EXPECT_EQ(hil::eeprom_write_cycles(8'000'000), 26'368u);
-    EXPECT_NEAR(hil::cycles_to_s(kEepromWriteCycles), 3.296e-3, 1e-9);
+    EXPECT_NEAR(hil::cycles_to_s(kEepromWriteCycles, kUnoClockHz), 3.296e-3, 1e-9);
 }
 
 TEST(EepromWriteTiming, DatasheetModeSpacesTheLogWritesByTheWriteTime) {
@@ -156,10 +157,10 @@ TEST(EepromWriteTiming, EepeStaysSetForTheWriteTimeThenClears) {
     hil::UartLink uart(core);
     hil::EepromWriteTiming timing(core);
     ASSERT_EQ(timing.mode(), EepromTimingMode::kDatasheet);
-    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)),
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)),
               hil::RunStop::kCondition);
     uart.send("1");
-    const auto limit = core.cycle() + hil::s_to_cycles(0.5);
+    const auto limit = core.cycle() + hil::s_to_cycles(0.5, kUnoClockHz);
     while (timing.writes().empty() && core.cycle() < limit) core.run_until(core.cycle() + 1000);
     ASSERT_EQ(timing.writes().size(), 1u);
     const auto start = timing.writes()[0].cycle;

@@ -16,7 +16,7 @@ namespace {
 std::string read_error(const std::filesystem::path& p, bool check_mcu = true) {
     try {
         const auto elf = hil::ElfImage::read(p);
-        if (check_mcu) elf.require_atmega328p();
+        if (check_mcu) elf.require_mcu(hil::atmega328p_mcu());
     } catch (const std::runtime_error& e) {
         return e.what();
     }
@@ -91,6 +91,19 @@ TEST(ElfImage, OtherAvrArchitecturesAreRefused) {
               std::string::npos);
     EXPECT_NE(read_error(test_firmware_dir() / "other_mcu_attiny85.elf").find("avr25"),
               std::string::npos);
+}
+
+TEST(ElfImage, AMismatchNamesTheBoardAndTheElfsArchitecture) {
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "other_mcu_atmega2560.elf");
+    try {
+        elf.require_mcu(hil::atmega328p_mcu(), "uno");
+        FAIL() << "an ATmega2560 ELF passed as the Uno's";
+    } catch (const std::runtime_error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("avr6 (e.g. the ATmega2560)"), std::string::npos) << m;
+        EXPECT_NE(m.find("board 'uno' (ATmega328P) is avr5"), std::string::npos) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;  // one line
+    }
 }
 
 TEST(ElfImage, OtherAvr5McuIsRefusedByItsVectorTable) {

@@ -7,6 +7,7 @@
 #include "hil/atmega328p.hpp"
 #include "hil/firmware_variables.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -18,7 +19,7 @@ struct Booted {
     hil::FirmwareVariables vars{elf, core};
     Booted() {
         // attachInterrupt(..., CHANGE) runs in setup(), before delay(5000).
-        core.run_until(hil::s_to_cycles(0.5));
+        core.run_until(hil::s_to_cycles(0.5, kUnoClockHz));
     }
 };
 
@@ -67,7 +68,7 @@ TEST(EncoderInjector, EncoderOnAPinWithoutInterruptCountsNoIsr) {
     auto board = hil::default_board();
     board.wheel[0].encoder.pin[0] = 4;
     hil::EncoderInjector injector(core, board);
-    core.run_until(hil::s_to_cycles(0.5));
+    core.run_until(hil::s_to_cycles(0.5, kUnoClockHz));
     injector.schedule(0, core.cycle() + 100, true);
     core.run_until(core.cycle() + 1000);
     EXPECT_FALSE(injector.interrupt_of(0).has_value());
@@ -153,7 +154,7 @@ TEST(EncoderInjector, TimerPwmOnAPinOfTheSameGroupRaisesNoPinChangeInterrupt) {
     // encoder edge: no PCINT2; then one edge on D4: exactly one.
     Fixture f;
     const hil::Cycles t0 = f.core.cycle();
-    f.core.run_until(t0 + hil::s_to_cycles(0.1));
+    f.core.run_until(t0 + hil::s_to_cycles(0.1, kUnoClockHz));
     EXPECT_EQ(f.u16("pcint2_count"), 0u);
     const hil::Cycles t1 = f.core.cycle();
     f.injector.schedule(0, 1, t1 + 1000, true);  // the right wheel's B channel is D4

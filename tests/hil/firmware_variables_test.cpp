@@ -10,6 +10,7 @@
 #include "hil/uart_link.hpp"
 #include "support/square_wave_input.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -76,7 +77,7 @@ TEST(FirmwareVariables, ReadsTheSketchGlobalsAfterBoot) {
     // int(1200.0f) = 1200.
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core(elf);
-    core.run_until(hil::s_to_cycles(0.1));
+    core.run_until(hil::s_to_cycles(0.1, kUnoClockHz));
     const hil::FirmwareVariables vars(elf, core);
     EXPECT_EQ(vars.read_float("dt"), 0.01f);  // bit-exact: float dt = 0.01
     EXPECT_EQ(vars.read("dt", VarType::kFloat), static_cast<double>(0.01f));
@@ -151,12 +152,12 @@ TEST(FirmwareVariables, EndPoseMatchesThePrintedReport) {
         }
         if (parser.complete() || parser.error()) core.request_stop();
     });
-    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)),
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)),
               hil::RunStop::kCondition);
     SquareWaveInput left(core, 'D', 2, 25'000);   // 640 edges/s on Count1
     SquareWaveInput right(core, 'D', 3, 32'000);  // 500 edges/s on Count2
     uart.send("1");
-    core.run_until(core.cycle() + hil::s_to_cycles(20.0));
+    core.run_until(core.cycle() + hil::s_to_cycles(20.0, kUnoClockHz));
     ASSERT_TRUE(parser.complete()) << uart.text();
     ASSERT_TRUE(seen_end);
     const auto& r = parser.report();

@@ -17,7 +17,7 @@ const std::string& name_at(const FunctionMap& map, uint32_t address) {
 
 TEST(FunctionMap, ReferenceFirmwareEntryPoints) {
     const auto elf = hil::ElfImage::read(firmware_elf());
-    const FunctionMap map(elf);
+    const FunctionMap map(elf, hil::atmega328p_mcu());
     // libgcc's float add: __subsf3 (FUNC, 14 bytes at 0x1ff8) is one
     // instruction that falls into the global label __addsf3 at 0x1ffa.
     const auto add = map.find("__addsf3");
@@ -45,7 +45,7 @@ TEST(FunctionMap, ReferenceFirmwareEntryPoints) {
 
 TEST(FunctionMap, ReferenceFirmwareAliasesHaveOneCanonicalName) {
     const auto elf = hil::ElfImage::read(firmware_elf());
-    const FunctionMap map(elf);
+    const FunctionMap map(elf, hil::atmega328p_mcu());
     // 0x20d2: __cmpsf2 is the FUNC with a size; the NOTYPE labels are aliases.
     const auto& cmp = map.function(map.at(0x20d2));
     EXPECT_EQ(cmp.name, "__cmpsf2");
@@ -71,7 +71,7 @@ TEST(FunctionMap, ReferenceFirmwareAliasesHaveOneCanonicalName) {
 
 TEST(FunctionMap, ReferenceFirmwareDataAndLabelsAreNotFunctions) {
     const auto elf = hil::ElfImage::read(firmware_elf());
-    const FunctionMap map(elf);
+    const FunctionMap map(elf, hil::atmega328p_mcu());
     // PROGMEM tables (STT_OBJECT in .text), local labels, linker markers and
     // absolute symbols are not functions.
     for (const char* name : {"port_to_mode_PGM", "digital_pin_to_timer_PGM", ".do_clear_bss_loop",
@@ -93,7 +93,7 @@ TEST(FunctionMap, ReferenceFirmwareDataAndLabelsAreNotFunctions) {
 
 TEST(FunctionMap, EveryFunctionSymbolIsAnEntryPointAndTheMapIsContiguous) {
     const auto elf = hil::ElfImage::read(firmware_elf());
-    const FunctionMap map(elf);
+    const FunctionMap map(elf, hil::atmega328p_mcu());
     std::size_t funcs = 0;
     for (const auto& s : elf.symbols()) {
         if (!s.is_function || !s.in_text) continue;
@@ -113,7 +113,7 @@ TEST(FunctionMap, FixtureFunctions) {
     // tests/firmware/profile_fixture.c, avr-nm -n: leaf 0x80, middle 0x8a,
     // tailer 0x94, mark 0x9a, __vector_1 0xa0, main 0xaa, _exit 0xc2.
     const auto elf = hil::ElfImage::read(test_firmware_dir() / "profile_fixture.elf");
-    const FunctionMap map(elf);
+    const FunctionMap map(elf, hil::atmega328p_mcu());
     std::vector<std::string> names;
     for (const auto& f : map.functions()) names.push_back(f.name);
     EXPECT_EQ(names, (std::vector<std::string>{"__vectors", "__init", "__bad_interrupt", "leaf", "middle", "tailer",

@@ -11,6 +11,7 @@
 #include "hil/robot_rig.hpp"
 #include "support/square_wave_input.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -135,10 +136,10 @@ TEST(FunctionProfiler, ReferenceFirmwareCase1) {
     hil::IsrMonitor isr(core, elf);
     hil::LoopProfiler loop(core, elf.require("delay"));
     loop.set_iteration_listener([&](bool completed) { prof.on_loop_boundary(completed); });
-    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)), hil::RunStop::kCondition);
+    ASSERT_EQ(core.run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)), hil::RunStop::kCondition);
     loop.arm();
     rig.uart().send("1");
-    core.run_until(core.cycle() + hil::s_to_cycles(13.0));
+    core.run_until(core.cycle() + hil::s_to_cycles(13.0, kUnoClockHz));
 
     const auto& all = prof.whole_run();
     const auto& cl = prof.control_loop();

@@ -14,6 +14,7 @@
 
 #include "support/loopback_tcp.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -90,7 +91,7 @@ TEST(GdbServer, ServesTheTargetOnLoopbackAndStopsOnCtrlC) {
     server.wait_for_attach();  // returns at the client's first resume (its 's')
     EXPECT_TRUE(core.has_instruction_hooks());
     // Half a second of AVR time: far more than the client needs.
-    core.run_until(hil::s_to_cycles(0.5));
+    core.run_until(hil::s_to_cycles(0.5, kUnoClockHz));
     client.join();
 
     EXPECT_EQ(first_stop.substr(0, 3), "T05");
@@ -108,7 +109,7 @@ TEST(GdbServer, ServesTheTargetOnLoopbackAndStopsOnCtrlC) {
     EXPECT_FALSE(server.attached());
     server.release_if_detached();
     EXPECT_FALSE(core.has_instruction_hooks());
-    EXPECT_GE(core.cycle(), hil::s_to_cycles(0.5));
+    EXPECT_GE(core.cycle(), hil::s_to_cycles(0.5, kUnoClockHz));
 }
 
 TEST(GdbServer, WritingSregSetsSimavrsSplitFlags) {

@@ -6,6 +6,7 @@
 #include "hil/uart_link.hpp"
 #include "support/rig_run.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -49,10 +50,10 @@ TEST(LoopProfiler, ReferenceFirmwareCase1) {
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::RobotRig rig(elf, hil::RigConfig{});
     hil::LoopProfiler profiler(rig.core(), elf.require("delay"));
-    ASSERT_EQ(rig.core().run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0)), hil::RunStop::kCondition);
+    ASSERT_EQ(rig.core().run_until_return_from(elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz)), hil::RunStop::kCondition);
     profiler.arm();
     rig.uart().send("1");
-    rig.core().run_until(rig.core().cycle() + hil::s_to_cycles(13.0));
+    rig.core().run_until(rig.core().cycle() + hil::s_to_cycles(13.0, kUnoClockHz));
     std::vector<hil::Cycles> writes;
     for (const auto& w : rig.eeprom_timing().writes()) writes.push_back(w.cycle);
     profiler.tag_eeprom_writes(writes);
@@ -63,18 +64,18 @@ TEST(LoopProfiler, ReferenceFirmwareCase1) {
     for (const auto& it : its) {
         // delay(9) waits until micros() has advanced 9000 us, polled in a
         // loop: at least 9 ms, and the poll's own period later at most.
-        EXPECT_GE(it.wait(), hil::ms_to_cycles(9.0));
-        EXPECT_LT(it.wait(), hil::ms_to_cycles(9.03));
+        EXPECT_GE(it.wait(), hil::ms_to_cycles(9.0, kUnoClockHz));
+        EXPECT_LT(it.wait(), hil::ms_to_cycles(9.03, kUnoClockHz));
         if (it.eeprom_write) {
             ++with_eeprom;
             // The log call's second write waits one programming time
             // (3.296 ms) for the first: compute is 3.3 to 3.4 ms longer.
-            EXPECT_GT(it.compute(), hil::ms_to_cycles(1.0 + 3.296));
+            EXPECT_GT(it.compute(), hil::ms_to_cycles(1.0 + 3.296, kUnoClockHz));
         } else {
             // The control law in float on a 16 MHz AVR: about 1.1 ms (the
             // thesis quotes 0.8 ms); never near the 9 ms wait.
-            EXPECT_GT(it.compute(), hil::ms_to_cycles(0.9));
-            EXPECT_LT(it.compute(), hil::ms_to_cycles(1.3));
+            EXPECT_GT(it.compute(), hil::ms_to_cycles(0.9, kUnoClockHz));
+            EXPECT_LT(it.compute(), hil::ms_to_cycles(1.3, kUnoClockHz));
         }
     }
     // One log call per 10 iterations; the 120th follows the last delay.

@@ -12,6 +12,7 @@
 #include "hil/atmega328p.hpp"
 #include "hil/uart_link.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -34,7 +35,7 @@ struct Rig {
 
 TEST(MotorDriverReader, SetupLeavesBothBridgesCoasting) {
     Rig r;
-    r.core.run_until(hil::s_to_cycles(1.0));
+    r.core.run_until(hil::s_to_cycles(1.0, kUnoClockHz));
     r.reader.advance_to(r.core.cycle());
     for (std::size_t m = 0; m < 2; ++m) {
         const int pwm_pin = m == 0 ? 10 : 11;
@@ -58,10 +59,10 @@ TEST(MotorDriverReader, FirstIterationOfCase1DrivesTheHandComputedDuties) {
     //   Vdc1 = int(10.8397 (30.3 v + 1.92 w)) = int(234.5) = 234
     //   Vdc2 = int(10.8397 (30.3 v - 1.92 w)) = int(159.6) = 159
     Rig r;
-    const auto stop = r.core.run_until_return_from(r.elf.require("delay"), hil::s_to_cycles(6.0));
+    const auto stop = r.core.run_until_return_from(r.elf.require("delay"), hil::s_to_cycles(6.0, kUnoClockHz));
     ASSERT_EQ(stop, hil::RunStop::kCondition);
     r.uart.send("1");
-    r.core.run_until(r.core.cycle() + hil::ms_to_cycles(5.0));  // inside the first delay(9)
+    r.core.run_until(r.core.cycle() + hil::ms_to_cycles(5.0, kUnoClockHz));  // inside the first delay(9)
     const hil::Cycles now = r.core.cycle();
     r.reader.advance_to(now);
     EXPECT_DOUBLE_EQ(r.reader.pins().duty(10), 234.0 / 255.0);  // phase correct: OCR / TOP
@@ -79,7 +80,7 @@ TEST(MotorDriverReader, FirstIterationOfCase1DrivesTheHandComputedDuties) {
 
 TEST(MotorDriverReader, OcrWritesTakeEffectAtTheNextTop) {
     Rig r;
-    r.core.run_until(hil::s_to_cycles(0.1));
+    r.core.run_until(hil::s_to_cycles(0.1, kUnoClockHz));
     avr_t* avr = r.core.raw();
     namespace reg = hil::atmega328p::reg;
     // What analogWrite(10, 100) does: COM1B1 on, OCR1B = 100 (high byte first).
@@ -128,7 +129,7 @@ TEST(MotorDriverReader, TruthTablesFromPinLevels) {
     hil::ElfImage elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core{elf};
     hil::MotorDriverReader reader{core, two_drivers()};
-    core.run_until(hil::s_to_cycles(0.1));
+    core.run_until(hil::s_to_cycles(0.1, kUnoClockHz));
     namespace reg = hil::atmega328p::reg;
     const auto now = [&] { return core.cycle(); };
     // Right L298N: IN1 = IN2 = floating inputs (read low): EN high -> brake.

@@ -105,9 +105,22 @@ TEST(PlantCoupler, EepromLogIsContinuousAndEndsAtTheFirmwareEstimate) {
 
 TEST(PlantCoupler, InputLatencyIsBelowOneCouplingStep) {
     const auto& run = case1();
-    const hil::CouplerConfig defaults;
+    const hil::CouplerConfig defaults = hil::resolved(hil::CouplerConfig{}, kUnoClockHz);
     EXPECT_GT(run.max_latency, 0u);
     EXPECT_LE(run.max_latency, defaults.step_cycles);
+}
+
+TEST(PlantCoupler, DefaultPeriodsAreTimesAtTheBoardsClock) {
+    // 62.5 us and 1 ms: 1000 and 16,000 cycles at 16 MHz, 500 and 8,000 at 8 MHz.
+    const hil::CouplerConfig uno = hil::resolved(hil::CouplerConfig{}, 16'000'000);
+    EXPECT_EQ(uno.step_cycles, 1000u);
+    EXPECT_EQ(uno.truth_period_cycles, 16'000u);
+    const hil::CouplerConfig pro_mini = hil::resolved(hil::CouplerConfig{}, 8'000'000);
+    EXPECT_EQ(pro_mini.step_cycles, 500u);
+    EXPECT_EQ(pro_mini.truth_period_cycles, 8'000u);
+    hil::CouplerConfig given;
+    given.step_cycles = 250;
+    EXPECT_EQ(hil::resolved(given, 8'000'000).step_cycles, 250u);  // a given step is kept
 }
 
 TEST(PlantCoupler, SwappedEncoderWiringBreaksTracking) {

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "support/reference_run.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -63,10 +64,10 @@ TEST(UartLink, BytesSentBeforeSerialBeginWaitForTheReceiver) {
     hil::UartLink uart(core);
     uart.send("1");  // at reset: RXEN is off, simavr would drop the byte
     EXPECT_EQ(uart.pending(), 1u);
-    core.run_until(hil::s_to_cycles(0.1));  // Serial.begin() has enabled RX
+    core.run_until(hil::s_to_cycles(0.1, kUnoClockHz));  // Serial.begin() has enabled RX
     EXPECT_EQ(uart.pending(), 0u);
     // The byte waited in Serial's buffer through delay(5000): case 1 runs.
-    core.run_until(hil::s_to_cycles(5.1));
+    core.run_until(hil::s_to_cycles(5.1, kUnoClockHz));
     EXPECT_EQ(uart.text(), "0.6m\r\n");
 }
 

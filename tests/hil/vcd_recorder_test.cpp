@@ -11,6 +11,7 @@
 
 #include "support/test_paths.hpp"
 #include "support/vcd_reader.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -21,20 +22,22 @@ TEST(VcdRecorder, AveragedModeStillDrawsThePhaseCorrectWaveform) {
     config.coupler.mode = plant::DriveMode::averaged;
     RobotRig rig(elf, config);
     std::string text;
-    VcdWriter writer([&text](std::string_view s) { text.append(s); });
+    VcdConfig vcd_config;
+    vcd_config.clock_hz = rig.core().clock_hz();
+    VcdWriter writer([&text](std::string_view s) { text.append(s); }, vcd_config);
     Cycles sent = 0;
     {
         VcdRecorder recorder(rig, elf, writer);
         rig.coupler().set_boundary_hook([&recorder](Cycles c) { recorder.on_boundary(c); });
-        ASSERT_EQ(rig.core().run_until_return_from(elf.require("delay"), s_to_cycles(6.0)), RunStop::kCondition);
+        ASSERT_EQ(rig.core().run_until_return_from(elf.require("delay"), s_to_cycles(6.0, test::kUnoClockHz)), RunStop::kCondition);
         sent = rig.core().cycle();
         rig.uart().send("1");
-        rig.core().run_until(sent + s_to_cycles(0.5));  // 0.5 s of the circle: ~245 PWM periods
+        rig.core().run_until(sent + s_to_cycles(0.5, test::kUnoClockHz));  // 0.5 s of the circle: ~245 PWM periods
         recorder.finish();
         rig.coupler().set_boundary_hook(nullptr);
     }
     // Unhooked: the rig runs on, nothing reaches the finished writer (it would throw).
-    EXPECT_NO_THROW(rig.core().run_until(rig.core().cycle() + s_to_cycles(0.1)));
+    EXPECT_NO_THROW(rig.core().run_until(rig.core().cycle() + s_to_cycles(0.1, test::kUnoClockHz)));
 
     const test::VcdFile f = test::parse_vcd(text);
     for (const char* name : {"isr_INT0", "isr_INT1", "isr_TIMER0_OVF", "isr_USART_RX", "isr_USART_UDRE"}) {
@@ -44,7 +47,7 @@ TEST(VcdRecorder, AveragedModeStillDrawsThePhaseCorrectWaveform) {
     // Every complete pulse on pin 11 after the case byte lasts 2 x OCR x 64
     // cycles: a multiple of 8,000 ns (1 ns of rounding down either way).
     const test::VcdVar& d11 = f.var("ddmr_hil.uno.D11_left_PWM");
-    const uint64_t sent_ns = VcdWriter::cycles_to_ns(sent, atmega328p::kClockHz);
+    const uint64_t sent_ns = VcdWriter::cycles_to_ns(sent, test::kUnoClockHz);
     std::size_t pulses = 0;
     for (std::size_t i = 1; i + 1 < d11.changes.size(); ++i) {
         if (d11.changes[i].value != 1 || d11.changes[i].time < sent_ns) continue;

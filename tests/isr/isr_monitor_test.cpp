@@ -30,7 +30,7 @@ struct TimingBench {
     hil::Cycles loop_start = 0;  ///< an instruction boundary of the rjmp loop
 
     TimingBench() {
-        elf.require_atmega328p();
+        elf.require_mcu(hil::atmega328p_mcu());
         // Single-step to the first "rjmp .-2": from here on every instruction
         // boundary is loop_start + 2k and I is set (sei ran before).
         const auto stop = core.run_until(100'000, [&] { return core.flash_word(core.pc()) == kRjmpSelf; });

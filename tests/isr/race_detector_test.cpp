@@ -26,6 +26,7 @@
 #include "hil/isr_monitor.hpp"
 #include "hil/robot_rig.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -34,14 +35,14 @@ using hil::atmega328p::vector::kTimer0Ovf;
 
 hil::ElfImage isr_elf(const std::string& name) {
     auto elf = hil::ElfImage::read(std::string(DDMR_ISR_FIRMWARE_DIR) + "/" + name + ".elf");
-    elf.require_atmega328p();
+    elf.require_mcu(hil::atmega328p_mcu());
     return elf;
 }
 
 /// tests/firmware's fixtures (race_fixture.c).
 hil::ElfImage fixture_elf(const std::string& name) {
     auto elf = hil::ElfImage::read(test_firmware_dir() / (name + ".elf"));
-    elf.require_atmega328p();
+    elf.require_mcu(hil::atmega328p_mcu());
     return elf;
 }
 
@@ -283,7 +284,7 @@ TEST(RaceDetector, ReportsNothingForTheFixedFirmware) {
 TEST(RaceDetector, FindsTheStaleLoopInTheCode) {
     const auto elf = fixture_elf("race_fixture_racy");
     hil::AvrCore core(elf);
-    const hil::DataObjects objects(elf);
+    const hil::DataObjects objects(elf, hil::atmega328p_mcu());
     const auto main_fn = elf.require("main");
     // The endless `rjmp .-2` (0xCFFF) after the LDS of flag.
     uint32_t spin = 0;
@@ -301,7 +302,7 @@ TEST(RaceDetector, FindsTheStaleLoopInTheCode) {
     // The fixed build re-reads flag inside the loop: no stale loop anywhere in main.
     const auto fixed = fixture_elf("race_fixture_fixed");
     hil::AvrCore fixed_core(fixed);
-    const hil::DataObjects fixed_objects(fixed);
+    const hil::DataObjects fixed_objects(fixed, hil::atmega328p_mcu());
     const auto fixed_main = fixed.require("main");
     for (uint32_t a = fixed_main.address; a < fixed_main.address + fixed_main.size; a += 2) {
         const auto f = hil::find_stale_loop(fixed_core, fixed_objects, a);
@@ -371,7 +372,7 @@ Case1 run_case1(bool precise) {
         parser.feed(std::string_view(reinterpret_cast<const char*>(&b.value), 1));
         if (parser.complete() || parser.error()) rig.core().request_stop();
     });
-    const auto limit = hil::s_to_cycles(40.0);
+    const auto limit = hil::s_to_cycles(40.0, kUnoClockHz);
     Case1 r;
     if (rig.core().run_until_return_from(elf.require("delay"), limit) != hil::RunStop::kCondition) return r;
     rig.uart().send("1");

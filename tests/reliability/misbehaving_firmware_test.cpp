@@ -13,6 +13,7 @@
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 namespace {
@@ -108,7 +109,7 @@ TEST(MisbehavingFirmware, AnEepromFloodIsCountedInBoundedMemory) {
     hil::AvrCore core(elf);
     EepromWriteTiming timing(core, hil::EepromTimingMode::kInstant);
     const hil::EepromPort eeprom(core);
-    core.run_until(hil::s_to_cycles(0.5));
+    core.run_until(hil::s_to_cycles(0.5, kUnoClockHz));
     const uint64_t n = timing.write_count();
     ASSERT_GT(n, EepromWriteTiming::kMaxRecordedWrites + 1024);
     EXPECT_FALSE(timing.all_writes_recorded());

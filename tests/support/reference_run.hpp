@@ -12,6 +12,7 @@
 #include "hil/firmware_report.hpp"
 #include "hil/uart_link.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 
@@ -41,7 +42,7 @@ inline ReferenceRun run_reference_case(char case_byte,
         if (parser.complete() || parser.error()) core.request_stop();
     });
     ReferenceRun run;
-    const auto limit = hil::s_to_cycles(limit_s);
+    const auto limit = hil::s_to_cycles(limit_s, kUnoClockHz);
     if (core.run_until_return_from(elf.require("delay"), limit) == hil::RunStop::kCondition) {
         run.ready_cycle = core.cycle();
         uart.send(std::string(1, case_byte));

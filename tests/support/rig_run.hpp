@@ -9,6 +9,7 @@
 #include "hil/loop_tracer.hpp"
 #include "hil/robot_rig.hpp"
 #include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
 
 namespace ddmr::test {
 
@@ -50,7 +51,7 @@ inline RigRun run_rig_case(char case_byte, const hil::RigConfig& config = {}, do
         last_t = v[0];
     });
     rig.coupler().set_boundary_hook([&](hil::Cycles c) { tracer.poll(c); });
-    const auto limit = hil::s_to_cycles(limit_s);
+    const auto limit = hil::s_to_cycles(limit_s, kUnoClockHz);
     if (rig.core().run_until_return_from(elf.require("delay"), limit) == hil::RunStop::kCondition) {
         run.ready_cycle = rig.core().cycle();
         rig.uart().send(std::string(1, case_byte));
@@ -66,11 +67,11 @@ inline RigRun run_rig_case(char case_byte, const hil::RigConfig& config = {}, do
     }
     run.end_truth = rig.robot().pose();
     run.max_latency = rig.coupler().max_input_latency_cycles();
-    const auto timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), run.ready_cycle);
+    const auto timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), run.ready_cycle, kUnoClockHz);
     run.log = hil::decode_eeprom_log(rig.eeprom().read_all(), timing.sample_count, timing.times_s);
     const auto& it = run.iteration_cycles;
     if (it.size() > 1) {
-        run.mean_period_s = hil::cycles_to_s(it.back() - it.front()) / static_cast<double>(it.size() - 1);
+        run.mean_period_s = hil::cycles_to_s(it.back() - it.front(), kUnoClockHz) / static_cast<double>(it.size() - 1);
     }
     return run;
 }

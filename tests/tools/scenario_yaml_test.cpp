@@ -272,6 +272,25 @@ TEST(ScenarioYaml, TheCommandLineFirmwareWins) {
     EXPECT_EQ(s.firmware, "/some/where/else.elf");
 }
 
+TEST(ScenarioYaml, DurationsAndPinsAreTheBoards) {
+    // The Pro Mini example's scenario: the board file comes first, so its
+    // 8 MHz clock turns every duration into cycles (500 ms = 4,000,000).
+    const auto file = test::source_dir() / "firmware/examples/pro_mini_8mhz_tb6612/scenario.yaml";
+    const Scenario s = load_scenario(file, options());
+    EXPECT_EQ(s.board.model, hil::BoardModel::pro_mini_8mhz);
+    EXPECT_EQ(s.timeout, 4u * 8'000'000u);  // timeout: 4s
+    const auto* d = std::get_if<Delay>(&s.steps.at(2).action);
+    ASSERT_NE(d, nullptr);
+    EXPECT_EQ(d->duration, 750u * 8'000u);  // delay: 750ms
+    // On the Uno (no board file) the same text is 16 MHz cycles.
+    EXPECT_EQ(parse("timeout: 4s\nsteps:\n  - delay: 750ms\n").timeout, 4u * 16'000'000u);
+    // Pins are the board's: 20 digital pins, PWM where a timer output is.
+    const std::string m = refusal("timeout: 1s\nsteps:\n  - expect-pwm: { pin: 4, duty: 0.5, tol: 0.1 }\n");
+    EXPECT_NE(m.find("PWM pins: 3, 5, 6, 9, 10 and 11"), std::string::npos) << m;
+    EXPECT_NE(refusal("timeout: 1s\nsteps:\n  - expect-pin: { pin: 20, value: 1 }\n").find("[0, 19]"),
+              std::string::npos);
+}
+
 TEST(ScenarioYaml, EveryShippedScenarioLoads) {
     int n = 0;
     for (const auto& e : std::filesystem::directory_iterator(test::source_dir() / "tests/scenarios")) {

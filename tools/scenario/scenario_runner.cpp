@@ -24,7 +24,6 @@
 #include "hil/loop_profiler.hpp"
 #include "hil/plant_coupler.hpp"
 #include "hil/robot_rig.hpp"
-#include "hil/uno_pins.hpp"
 #include "hil/run_failure.hpp"
 #include "hil/serial_line.hpp"
 #include "hil/stack_guard.hpp"
@@ -38,7 +37,6 @@
 
 namespace ddmr::tools::scenario {
 namespace fs = std::filesystem;
-namespace chip = hil::atmega328p;
 using nlohmann::json;
 
 const char* to_string(Verdict v) {
@@ -77,7 +75,6 @@ constexpr double kVcdWindowS = 0.5;
 /// A wait without its own timeout: only the scenario's timeout ends it.
 constexpr Cycles kNever = ~Cycles{0};
 
-double us_of(Cycles c) { return hil::cycles_to_s(c, chip::kClockHz) * 1e6; }
 
 /// The data-space PIN/DDR/PORT registers and bit of an Uno pin.
 hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
@@ -95,7 +92,8 @@ class Session {
 public:
     Session(const Scenario& s, const fs::path& out_dir, bool progress)
         : s_(s), out_dir_(out_dir), progress_(progress), elf_(hil::ElfImage::read(s.firmware)) {
-        elf_.require_atmega328p();
+        const hil::BoardDescription& board = hil::board_description(s.board.model);
+        elf_.require_mcu(*board.mcu, board.key);
         if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload);
         hil::RigConfig config;
         config.plant = s.plant;
@@ -115,7 +113,8 @@ public:
         // The last kVcdWindowS of pins, PWM, ISRs, kept in memory and written
         // only if the scenario does not pass.
         hil::VcdConfig vcd_config;
-        vcd_config.window.last_cycles = hil::s_to_cycles(kVcdWindowS, chip::kClockHz);
+        vcd_config.clock_hz = rig_->core().clock_hz();
+        vcd_config.window.last_cycles = hil::s_to_cycles(kVcdWindowS, vcd_config.clock_hz);
         vcd_writer_.emplace([this](std::string_view text) { vcd_text_.append(text); }, vcd_config);
         vcd_.emplace(*rig_, elf_, *vcd_writer_, profiler_ ? &*profiler_ : nullptr);
         rig_->uart().set_listener([this](const hil::UartByte& b) { on_firmware_byte(b); });
@@ -180,7 +179,10 @@ public:
 
 private:
     hil::AvrCore& core() { return rig_->core(); }
-    double seconds(Cycles c) const { return hil::cycles_to_s(c, chip::kClockHz); }
+    double seconds(Cycles c) const { return hil::cycles_to_s(c, rig_->core().clock_hz()); }
+    /// Cycles (a count or a mean) in microseconds at the board's clock.
+    double us(Cycles cycles) const { return hil::cycles_to_s(cycles, rig_->core().clock_hz()) * 1e6; }
+    double us(double cycles) const { return cycles * 1e6 / rig_->core().clock_hz(); }
 
     // --- serial: firmware -> adapter ------------------------------------
     void on_firmware_byte(const hil::UartByte& b) {
@@ -343,9 +345,9 @@ private:
             pins.advance_to(core().cycle());
             if (pins.timer_driven(pin)) return pins.level_at(pin, core().cycle());
         }
-        const hil::UnoPin p = *hil::uno_pin(pin);  // the step's pin was checked when the scenario was loaded
-        const bool output = chip::bit_set(core().data(p.ddr_register), p.bit);
-        return chip::bit_set(core().data(output ? p.port_register : p.pin_register), p.bit);
+        const hil::PinInfo p = *hil::board_pin(core().board(), pin);  // the step's pin was checked when the scenario was loaded
+        const bool output = hil::atmega328p::bit_set(core().data(p.ddr_register), p.bit);
+        return hil::atmega328p::bit_set(core().data(output ? p.port_register : p.pin_register), p.bit);
     }
     std::string run_step(const WaitPin& w) {
         const Cycles start = core().cycle();
@@ -417,7 +419,7 @@ private:
     std::vector<hil::EepromLogSample> eeprom_log() {
         const hil::EepromImage image = rig_->eeprom().read_all();
         const hil::EepromLogTiming timing =
-            hil::eeprom_log_timing(rig_->eeprom_timing().latest_writes(), origin_cycle_, chip::kClockHz);
+            hil::eeprom_log_timing(rig_->eeprom_timing().latest_writes(), origin_cycle_, core().clock_hz());
         return hil::decode_eeprom_log(image, timing.sample_count, timing.times_s);
     }
     std::string run_step(const ExpectEeprom& e) {
@@ -510,10 +512,10 @@ private:
         const auto c = hil::cycle_distribution(compute);
         const auto p = hil::cycle_distribution(period);
         const std::vector<std::tuple<const char*, const Range*, double>> checks = {
-            {"max_us", &e.max_us, us_of(c.max)},          {"p99_us", &e.p99_us, us_of(c.p99)},
-            {"mean_us", &e.mean_us, c.mean * 1e6 / chip::kClockHz},
-            {"period_max_us", &e.period_max_us, us_of(p.max)}, {"period_p99_us", &e.period_p99_us, us_of(p.p99)},
-            {"period_mean_us", &e.period_mean_us, p.mean * 1e6 / chip::kClockHz},
+            {"max_us", &e.max_us, us(c.max)},          {"p99_us", &e.p99_us, us(c.p99)},
+            {"mean_us", &e.mean_us, us(c.mean)},
+            {"period_max_us", &e.period_max_us, us(p.max)}, {"period_p99_us", &e.period_p99_us, us(p.p99)},
+            {"period_mean_us", &e.period_mean_us, us(p.mean)},
         };
         for (const auto& [name, range, value] : checks) {
             if (range->set() && !range->contains(value)) {
@@ -524,8 +526,8 @@ private:
             }
         }
         return fmt::format("{} iterations: compute max {:.1f} p99 {:.1f} mean {:.1f} us; period max {:.1f} p99 {:.1f} mean {:.1f} us",
-                           c.count, us_of(c.max), us_of(c.p99), c.mean * 1e6 / chip::kClockHz, us_of(p.max),
-                           us_of(p.p99), p.mean * 1e6 / chip::kClockHz);
+                           c.count, us(c.max), us(c.p99), us(c.mean), us(p.max),
+                           us(p.p99), us(p.mean));
     }
     std::string run_step(const ExpectIsr& e) {
         const hil::IsrSummary s = isr_->summary();
@@ -742,7 +744,7 @@ private:
 
 void check_firmware_names(const Scenario& s) {
     const auto elf = hil::ElfImage::read(s.firmware);
-    const hil::DataObjects objects(elf);
+    const hil::DataObjects objects(elf, *hil::board_description(s.board.model).mcu);
     // Variables named by expect-no-torn-reads must be multi-byte variables in SRAM.
     for (const Step& step : s.steps) {
         const auto* e = std::get_if<ExpectNoTornReads>(&step.action);

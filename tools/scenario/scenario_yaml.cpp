@@ -13,10 +13,8 @@
 #include <set>
 #include <sstream>
 
-#include "hil/atmega328p.hpp"
 #include "hil/board.hpp"
 #include "hil/plant_coupler.hpp"
-#include "hil/uno_pins.hpp"
 #include "plant/params_yaml.hpp"
 
 namespace ddmr::tools::scenario {
@@ -145,8 +143,12 @@ namespace {
 /// The YAML node of one key with its location, for messages.
 class Ctx {
 public:
-    Ctx(const fs::path& file, const YAML::Node& node, std::string key)
-        : file_(file), node_(node), key_(std::move(key)) {}
+    /// `board`: the scenario's board (its clock turns durations into cycles, its pins are the valid ones).
+    Ctx(const fs::path& file, const YAML::Node& node, std::string key, const hil::BoardDescription& board)
+        : file_(file), node_(node), key_(std::move(key)), board_(&board) {}
+    /// Another node of the same file and board.
+    Ctx at(const YAML::Node& node, std::string key) const { return Ctx(file_, node, std::move(key), *board_); }
+    const hil::BoardDescription& board() const { return *board_; }
     [[noreturn]] void fail(const std::string& what) const {
         throw ScenarioError(fmt::format("{}:{}: key '{}': {}", file_.string(), line(), key_, what));
     }
@@ -155,7 +157,7 @@ public:
     const std::string& key() const { return key_; }
     const fs::path& file() const { return file_; }
 
-    Ctx child(const std::string& key) const { return Ctx(file_, node_[key], key_ + "." + key); }
+    Ctx child(const std::string& key) const { return at(node_[key], key_ + "." + key); }
 
     std::string str() const {
         if (!node_.IsScalar()) fail("expected a string");
@@ -200,7 +202,7 @@ public:
     }
     Cycles duration() const {
         try {
-            return parse_duration(str(), hil::atmega328p::kClockHz);
+            return parse_duration(str(), board_->clock_hz);
         } catch (const std::invalid_argument& e) {
             fail(e.what());
         }
@@ -213,7 +215,7 @@ public:
             if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; })) {
                 std::string list;
                 for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-                Ctx(file_, kv.first, key_ + "." + k).fail(fmt::format("unknown key (allowed: {})", list));
+                at(kv.first, key_ + "." + k).fail(fmt::format("unknown key (allowed: {})", list));
             }
         }
         for (const char* r : required) {
@@ -226,6 +228,7 @@ private:
     fs::path file_;
     YAML::Node node_;
     std::string key_;
+    const hil::BoardDescription* board_;
 };
 
 /// A path written in the scenario: relative, inside the scenario's folder.
@@ -251,14 +254,14 @@ fs::path existing_file(const Ctx& c) {
     return p;
 }
 
-int uno_pin(const Ctx& c) {
-    const int pin = c.integer_in(0, 19);
-    return pin;
-}
+/// A digital pin of the scenario's board, by number.
+int board_pin(const Ctx& c) { return c.integer_in(0, c.board().pin_count() - 1); }
 
 int pwm_pin(const Ctx& c) {
-    const int pin = c.integer_in(0, 19);
-    if (!hil::uno_pin(pin)->oc) c.fail(fmt::format("pin {} has no timer output (PWM pins: 3, 5, 6, 9, 10, 11)", pin));
+    const int pin = board_pin(c);
+    if (!hil::board_pin(c.board(), pin)->oc) {
+        c.fail(fmt::format("pin {} has no timer output (PWM pins: {})", pin, hil::pwm_pin_list(c.board())));
+    }
     return pin;
 }
 
@@ -326,12 +329,12 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
     }
     if (kind == "wait-pin") {
         c.keys({"pin", "value", "timeout"}, {"pin", "value"});
-        return WaitPin{uno_pin(c.child("pin")), c.child("value").boolean(),
+        return WaitPin{board_pin(c.child("pin")), c.child("value").boolean(),
                        c.has("timeout") ? c.child("timeout").duration() : 0};
     }
     if (kind == "expect-pin") {
         c.keys({"pin", "value"}, {"pin", "value"});
-        return ExpectPin{uno_pin(c.child("pin")), c.child("value").boolean()};
+        return ExpectPin{board_pin(c.child("pin")), c.child("value").boolean()};
     }
     if (kind == "expect-pwm") {
         c.keys({"pin", "duty", "tol"}, {"pin", "duty"});
@@ -401,8 +404,8 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
             const Ctx r = c.child(k);
             if (r.node().IsSequence()) {
                 if (r.node().size() != 2) r.fail("expected a bound or [min, max]");
-                out.min = Ctx(r.file(), r.node()[0], r.key() + "[0]").number_in(0, 1e9, "[0, 1e9] us");
-                out.max = Ctx(r.file(), r.node()[1], r.key() + "[1]").number_in(0, 1e9, "[0, 1e9] us");
+                out.min = r.at(r.node()[0], r.key() + "[0]").number_in(0, 1e9, "[0, 1e9] us");
+                out.max = r.at(r.node()[1], r.key() + "[1]").number_in(0, 1e9, "[0, 1e9] us");
                 if (*out.min > *out.max) r.fail("min is above max");
             } else {
                 out.max = r.number_in(0, 1e9, "[0, 1e9] us");
@@ -465,8 +468,8 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
             if (c.has("op") || c.has("value")) c.fail("give op and value, or between: [min, max], not both");
             const Ctx b = c.child("between");
             if (!b.node().IsSequence() || b.node().size() != 2) b.fail("expected [min, max]");
-            e.between.min = Ctx(b.file(), b.node()[0], b.key() + "[0]").number();
-            e.between.max = Ctx(b.file(), b.node()[1], b.key() + "[1]").number();
+            e.between.min = b.at(b.node()[0], b.key() + "[0]").number();
+            e.between.max = b.at(b.node()[1], b.key() + "[1]").number();
             if (*e.between.min > *e.between.max) {
                 b.fail(fmt::format("min {} is above max {}", *e.between.min, *e.between.max));
             }
@@ -544,20 +547,30 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     } catch (const YAML::Exception& e) {
         throw ScenarioError(fmt::format("{}:{}: malformed YAML: {}", file.string(), e.mark.line + 1, e.msg));
     }
-    const Ctx top(file, root, "(top)");
     if (!root.IsMap()) throw ScenarioError(fmt::format("{}:1: a scenario is a mapping with a 'steps' list", file.string()));
+    Scenario s;
+    s.file = file;
+    // The board first: its clock and pins give meaning to the rest.
+    if (root["board"]) {
+        s.board_file = existing_file(Ctx(file, root["board"], "board", hil::board_description(s.board.model)));
+        try {
+            s.board = hil::load_board_file(*s.board_file);  // its messages name its file, line and key
+        } catch (const std::runtime_error& e) {
+            throw ScenarioError(e.what());
+        }
+    }
+    const hil::BoardDescription& board = hil::board_description(s.board.model);
+    const Ctx top(file, root, "(top)", board);
     top.keys({"name", "description", "version", "author", "firmware", "board", "plant", "pwm", "eeprom-timing",
               "seed", "timeout", "serial", "eeprom", "steps"},
              {"steps", "timeout"});
-    Scenario s;
-    s.file = file;
-    s.name = root["name"] ? Ctx(file, root["name"], "name").str() : file.stem().string();
-    if (root["description"]) s.description = Ctx(file, root["description"], "description").str();
+    s.name = root["name"] ? top.at(root["name"], "name").str() : file.stem().string();
+    if (root["description"]) s.description = top.at(root["description"], "description").str();
     // Firmware: the command line's, else the file's, else the reference.
     if (options.firmware_override) {
         s.firmware = *options.firmware_override;
     } else if (root["firmware"] && root["firmware"].IsMap()) {
-        const Ctx c(file, root["firmware"], "firmware");
+        const Ctx c = top.at(root["firmware"], "firmware");
         c.keys({"elf", "sketch"});
         if (c.has("elf") == c.has("sketch")) c.fail("give one of elf (a built ELF) or sketch (a .ino to build)");
         if (c.has("elf")) {
@@ -571,47 +584,39 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
             }
             s.sketch = ino;
         }
-    } else if (root["firmware"] && Ctx(file, root["firmware"], "firmware").str() != "reference") {
-        s.firmware = existing_file(Ctx(file, root["firmware"], "firmware"));
+    } else if (root["firmware"] && top.at(root["firmware"], "firmware").str() != "reference") {
+        s.firmware = existing_file(top.at(root["firmware"], "firmware"));
     } else {
         s.firmware = options.reference_firmware;
     }
-    if (root["board"]) {
-        s.board_file = existing_file(Ctx(file, root["board"], "board"));
-        try {
-            s.board = hil::load_board_file(*s.board_file);  // its messages name its file, line and key
-        } catch (const std::runtime_error& e) {
-            throw ScenarioError(e.what());
-        }
-    }
-    if (root["seed"]) s.seed = Ctx(file, root["seed"], "seed").count();
-    s.timeout = Ctx(file, root["timeout"], "timeout").duration();
-    if (s.timeout == 0) Ctx(file, root["timeout"], "timeout").fail("must be longer than 0");
+    if (root["seed"]) s.seed = top.at(root["seed"], "seed").count();
+    s.timeout = top.at(root["timeout"], "timeout").duration();
+    if (s.timeout == 0) top.at(root["timeout"], "timeout").fail("must be longer than 0");
     if (root["pwm"]) {
-        const Ctx c(file, root["pwm"], "pwm");
+        const Ctx c = top.at(root["pwm"], "pwm");
         const std::string v = c.str();
         if (v == "switched") s.pwm = plant::DriveMode::switched;
         else if (v == "averaged") s.pwm = plant::DriveMode::averaged;
         else c.fail(fmt::format("'{}' is not switched or averaged", v));
     }
     if (root["eeprom-timing"]) {
-        const Ctx c(file, root["eeprom-timing"], "eeprom-timing");
+        const Ctx c = top.at(root["eeprom-timing"], "eeprom-timing");
         const std::string v = c.str();
         if (v == "datasheet") s.eeprom_timing = hil::EepromTimingMode::kDatasheet;
         else if (v == "instant") s.eeprom_timing = hil::EepromTimingMode::kInstant;
         else c.fail(fmt::format("'{}' is not datasheet or instant", v));
     }
     if (root["serial"]) {
-        const Ctx c(file, root["serial"], "serial");
+        const Ctx c = top.at(root["serial"], "serial");
         c.keys({"baud"});
         if (c.has("baud")) s.baud = static_cast<uint32_t>(c.child("baud").integer_in(300, 2000000));
     }
-    if (root["eeprom"]) s.eeprom_preload = existing_file(Ctx(file, root["eeprom"], "eeprom"));
+    if (root["eeprom"]) s.eeprom_preload = existing_file(top.at(root["eeprom"], "eeprom"));
     // Plant: embedded defaults, or a file, then overrides; the seed feeds the encoders.
     YAML::Node plant_yaml = YAML::Load(plant::emit_robot_params(plant::default_robot_params()));
     std::string plant_source = file.string() + " (plant)";
     if (root["plant"]) {
-        const Ctx c(file, root["plant"], "plant");
+        const Ctx c = top.at(root["plant"], "plant");
         c.keys({"file", "overrides"});
         if (c.has("file")) {
             s.plant_file = existing_file(c.child("file"));
@@ -633,20 +638,20 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         e << plant_yaml;
         s.plant = plant::parse_robot_params(e.c_str(), plant_source);
     } catch (const std::exception& e) {
-        Ctx(file, root["plant"] ? root["plant"] : root, "plant").fail(e.what());
+        top.at(root["plant"] ? root["plant"] : root, "plant").fail(e.what());
     }
     // Steps.
-    const Ctx steps(file, root["steps"], "steps");
+    const Ctx steps = top.at(root["steps"], "steps");
     if (!root["steps"].IsSequence() || root["steps"].size() == 0) steps.fail("expected a non-empty list of steps");
     for (const auto& item : root["steps"]) {
-        const Ctx sc(file, item, "steps[]");
+        const Ctx sc = top.at(item, "steps[]");
         Step st;
         st.line = item.Mark().line + 1;
         // A step that takes no value may be written bare: `- reset`, `- expect-no-torn-reads`.
         if (item.IsScalar() && (item.Scalar() == "reset" || item.Scalar() == "expect-no-torn-reads")) {
             st.kind = item.Scalar();
             st.text = item.Scalar();
-            st.action = parse_step(st.kind, Ctx(file, YAML::Node(YAML::NodeType::Null), st.kind));
+            st.action = parse_step(st.kind, top.at(YAML::Node(YAML::NodeType::Null), st.kind));
             s.steps.push_back(std::move(st));
             continue;
         }
@@ -656,7 +661,7 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         const std::string kind = item.begin()->first.Scalar();
         st.kind = kind;
         st.text = step_text(item);
-        st.action = parse_step(kind, Ctx(file, item.begin()->second, kind));
+        st.action = parse_step(kind, top.at(item.begin()->second, kind));
         s.steps.push_back(std::move(st));
     }
     return s;

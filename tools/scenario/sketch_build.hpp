@@ -22,7 +22,7 @@ std::filesystem::path default_sketch_cache();
 /// The ELF of `ino` (built now or taken from `cache`). Throws
 /// std::runtime_error naming the sketch: not a .ino, its folder not named
 /// after it (Arduino's rule), or the build failed (with the log's path).
-/// `fqbn`: the board to build for (hil::board_fqbn; the Uno by default).
+/// `fqbn`: the board to build for (BoardDescription::fqbn).
 std::filesystem::path build_sketch(const std::filesystem::path& ino, const std::filesystem::path& cache,
                                    const std::string& fqbn);
 
