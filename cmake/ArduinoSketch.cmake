@@ -1,4 +1,8 @@
-# add_arduino_sketch(<target> SKETCH <dir/name.ino> OUTPUT <path.elf> [FQBN <fqbn>])
+# add_arduino_sketch(<target> SKETCH <dir/name.ino> OUTPUT <path.elf> [FQBN <fqbn>] [MCU <mcu>])
+#
+# FQBN: the board (default arduino:avr:uno; arduino:avr:nano:cpu=atmega328,
+# arduino:avr:pro:cpu=8MHzatmega328, arduino:avr:mega:cpu=atmega2560); MCU:
+# its chip for the size report (default atmega328p; atmega2560 for the Mega).
 #
 # Builds an Arduino sketch exactly as the Arduino IDE does, with Debian's
 # arduino-builder and Arduino AVR core: the IDE's .ino preprocessing (ctags
@@ -25,9 +29,12 @@ foreach(dir IN LISTS DDMR_ARDUINO_HARDWARE_DIRS)
 endforeach()
 
 function(add_arduino_sketch target)
-    cmake_parse_arguments(ARG "" "SKETCH;OUTPUT;FQBN" "" ${ARGN})
+    cmake_parse_arguments(ARG "" "SKETCH;OUTPUT;FQBN;MCU" "" ${ARGN})
     if(NOT ARG_FQBN)
         set(ARG_FQBN ${DDMR_ARDUINO_FQBN})
+    endif()
+    if(NOT ARG_MCU)
+        set(ARG_MCU atmega328p)
     endif()
     get_filename_component(sketch_name "${ARG_SKETCH}" NAME_WE)
     get_filename_component(out_dir "${ARG_OUTPUT}" DIRECTORY)
@@ -50,7 +57,7 @@ function(add_arduino_sketch target)
                 "${ARG_SKETCH}"
         COMMAND ${CMAKE_COMMAND} -E copy "${work_dir}/${sketch_name}.ino.elf" "${ARG_OUTPUT}"
         COMMAND ${CMAKE_COMMAND} -E copy "${work_dir}/${sketch_name}.ino.hex" "${hex}"
-        COMMAND ${AVR_SIZE} --format=avr --mcu=atmega328p "${ARG_OUTPUT}"
+        COMMAND ${AVR_SIZE} --format=avr --mcu=${ARG_MCU} "${ARG_OUTPUT}"
         DEPENDS "${ARG_SKETCH}"
         COMMENT "Building Arduino sketch ${sketch_name} for ${ARG_FQBN} with arduino-builder"
         VERBATIM)

@@ -7,8 +7,13 @@ if(DDMR_SANITIZE)
     # "may be used uninitialized" warnings inside libstdc++'s std::regex and
     # std::function (GCC bugs 105562, 107138); the normal build keeps the
     # warning, so real cases are still caught there.
+    # -O1 -g1 (after the build type's -O2 -g, so they win): AddressSanitizer's
+    # recommended optimisation level, and line tables only (file:line in
+    # every sanitizer report, no variable info). Measured on
+    # tools/firmware_run.cpp with the sanitizers: 106 s at -O2 -g, 44 s at
+    # -O1 -g1; the sanitizer tree builds in well under half the time.
     target_compile_options(ddmr_sanitizers INTERFACE
         -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
-        -Wno-maybe-uninitialized)
+        -Wno-maybe-uninitialized -O1 -g1)
     target_link_options(ddmr_sanitizers INTERFACE -fsanitize=address,undefined)
 endif()

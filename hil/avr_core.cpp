@@ -238,6 +238,12 @@ AvrCore::~AvrCore() = default;
 
 Cycles AvrCore::cycle() const { return avr_->cycle; }
 uint32_t AvrCore::pc() const { return avr_->pc; }
+uint32_t AvrCore::return_address_at(uint32_t first) const {
+    uint32_t word = 0;
+    for (uint32_t i = 0; i < mcu().pc_bytes; ++i) word = (word << 8) | avr_->data[(first + i) & 0xFFFFU];
+    return word * 2;
+}
+
 uint16_t AvrCore::stack_pointer() const {
     return static_cast<uint16_t>(avr_->data[mcu().spl] | (avr_->data[mcu().sph] << 8));
 }
@@ -373,14 +379,13 @@ avr_cycle_count_t on_return_sample(avr_t* /*avr*/, avr_cycle_count_t when, void*
         // In a timer callback simavr's PC is that of the last instruction run.
         const uint32_t pc = core.pc();
         if (pc < w->begin || pc >= w->end) return when + AvrCore::kReturnSamplePeriod;
-        // CALL pushed the return word address high byte at SP+1, low at SP+2
+        // CALL pushed the return word address, high byte first, at SP+1
         // (as seen after the push). Find the lowest such slot above SP.
-        for (uint32_t a = sp + 1U; a + 1 <= core.mcu().ram_end; ++a) {
-            const uint32_t ret_word = (static_cast<uint32_t>(core.data(static_cast<uint16_t>(a))) << 8) |
-                                      core.data(static_cast<uint16_t>(a + 1));
-            if (follows_call_to(core, ret_word * 2, w->begin)) {
+        const uint32_t last = core.mcu().pc_bytes - 1U;
+        for (uint32_t a = sp + 1U; a + last <= core.mcu().ram_end; ++a) {
+            if (follows_call_to(core, core.return_address_at(a), w->begin)) {
                 w->entered = true;
-                w->sp_before_call = static_cast<uint16_t>(a + 1);
+                w->sp_before_call = static_cast<uint16_t>(a + last);
                 break;
             }
         }

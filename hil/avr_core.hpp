@@ -78,6 +78,10 @@ public:
     /// Program counter as a flash byte address.
     uint32_t pc() const;
     uint16_t stack_pointer() const;
+    /// The return address a CALL or an interrupt pushed with its high byte at
+    /// data address `first` (SP + 1 right after the push): mcu().pc_bytes
+    /// bytes, high first, a word address; returned as a flash byte address.
+    uint32_t return_address_at(uint32_t first) const;
     /// A byte of data space (registers, I/O, SRAM), as the firmware would read it
     /// without side effects.
     uint8_t data(uint16_t address) const;

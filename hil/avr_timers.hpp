@@ -56,6 +56,10 @@ struct PortBit {
     uint8_t bit = 0;
 };
 
+/// Output-compare channels of the largest timer: A, B and C (the
+/// ATmega2560's Timer1/3/4/5); the ATmega328P's timers have A and B.
+inline constexpr int kMaxOcChannels = 3;
+
 /// One timer/counter of the chip. Addresses are data-space; 0 where absent.
 struct TimerDesc {
     int index = 0;  ///< n in TCCRnA, OCnA...
@@ -68,6 +72,8 @@ struct TimerDesc {
     uint16_t ocra_high = 0;
     uint16_t ocrb_low = 0;
     uint16_t ocrb_high = 0;
+    uint16_t ocrc_low = 0;  ///< OCRnC: only where channels == 3
+    uint16_t ocrc_high = 0;
     uint16_t icr_low = 0;
     uint16_t icr_high = 0;
     /// CSn2:0 -> prescaler N (one count per N CPU cycles). 0 = no clock:
@@ -77,7 +83,8 @@ struct TimerDesc {
     /// Number of WGM modes: 8 (WGMn2:0, Timer0/2) or 16 (WGM13:0, Timer1).
     int wgm_modes = 8;
     std::array<WaveformMode, 16> modes{};  ///< indexed by WGM (only wgm_modes used)
-    std::array<PortBit, 2> pins{};           ///< OCnA, OCnB
+    int channels = 2;                        ///< output-compare channels: 2 (A, B) or 3 (A, B, C)
+    std::array<PortBit, kMaxOcChannels> pins{};  ///< OCnA, OCnB, OCnC (the first `channels`)
 
     /// MAX: the counter's largest value [counts].
     [[nodiscard]] constexpr uint32_t max() const { return (uint32_t{1} << bits) - 1U; }
@@ -162,7 +169,7 @@ constexpr TimerDesc timer0() {
     d.prescaler = kPrescaler01;
     d.wgm_modes = 8;
     d.modes = modes_8bit();
-    d.pins = {pin('D', 6), pin('D', 5)};
+    d.pins = {pin('D', 6), pin('D', 5), PortBit{}};
     return d;
 }
 
@@ -183,7 +190,7 @@ constexpr TimerDesc timer1() {
     d.prescaler = kPrescaler01;
     d.wgm_modes = 16;
     d.modes = modes_16bit();
-    d.pins = {pin('B', 1), pin('B', 2)};
+    d.pins = {pin('B', 1), pin('B', 2), PortBit{}};
     return d;
 }
 
@@ -199,7 +206,7 @@ constexpr TimerDesc timer2() {
     d.prescaler = kPrescaler2;
     d.wgm_modes = 8;
     d.modes = modes_8bit();
-    d.pins = {pin('B', 3), pin('D', 3)};
+    d.pins = {pin('B', 3), pin('D', 3), PortBit{}};
     return d;
 }
 

@@ -19,6 +19,17 @@ std::vector<PortBit> standard_variant_pins() {
     return p;
 }
 
+/// variants/mega (pins_arduino.h's digital_pin_to_port/bit tables): D0..D53,
+/// then A0..A15 = D54..D69 (PF0..PF7, PK0..PK7).
+std::vector<PortBit> mega_variant_pins() {
+    static constexpr const char* kPins =
+        "E0E1E4E5G5E3H3H4H5H6B4B5B6B7J1J0H1H0D3D2D1D0A0A1A2A3A4A5A6A7C7C6C5C4C3C2C1C0D7G2G1G0L7L6L5L4L3L2L1L0B3B2"
+        "B1B0F0F1F2F3F4F5F6F7K0K1K2K3K4K5K6K7";
+    std::vector<PortBit> p;
+    for (const char* c = kPins; *c != '\0'; c += 2) p.push_back({c[0], static_cast<uint8_t>(c[1] - '0')});
+    return p;
+}
+
 BoardDescription make(BoardModel model, const char* key, const char* label, const char* fqbn, uint32_t clock_hz,
                       std::vector<const char*> analog_only) {
     BoardDescription d;
@@ -35,6 +46,20 @@ BoardDescription make(BoardModel model, const char* key, const char* label, cons
     return d;
 }
 
+BoardDescription mega2560() {
+    BoardDescription d;
+    d.model = BoardModel::mega2560;
+    d.key = "mega2560";
+    d.label = "Arduino Mega 2560";
+    d.fqbn = "arduino:avr:mega:cpu=atmega2560";
+    d.mcu = &atmega2560_mcu();
+    d.clock_hz = 16'000'000;
+    d.pins = mega_variant_pins();
+    d.analog0 = 54;
+    d.console_usart = 0;  // Serial: USART0 on D0/D1 (PE0/PE1), the USB-serial chip's
+    return d;
+}
+
 const std::vector<BoardDescription>& boards() {
     static const std::vector<BoardDescription> all = {
         make(BoardModel::uno, "uno", "Arduino Uno", "arduino:avr:uno", 16'000'000, {}),
@@ -42,6 +67,7 @@ const std::vector<BoardDescription>& boards() {
              {"A6", "A7"}),
         make(BoardModel::pro_mini_8mhz, "pro-mini-8mhz", "Arduino Pro Mini 3.3 V (ATmega328P, 8 MHz)",
              "arduino:avr:pro:cpu=8MHzatmega328", 8'000'000, {"A6", "A7"}),
+        mega2560(),
     };
     return all;
 }

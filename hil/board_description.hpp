@@ -19,8 +19,8 @@
 
 namespace ddmr::hil {
 
-/// The board-file key `board:`: uno, nano, pro-mini-8mhz.
-enum class BoardModel : uint8_t { uno, nano, pro_mini_8mhz };
+/// The board-file key `board:`: uno, nano, pro-mini-8mhz, mega2560.
+enum class BoardModel : uint8_t { uno, nano, pro_mini_8mhz, mega2560 };
 
 struct BoardDescription {
     BoardModel model = BoardModel::uno;

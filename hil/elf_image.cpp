@@ -62,9 +62,11 @@ struct ElfDeleter {
 };
 
 /// True when the 4 bytes at `p` are a JMP instruction (1001 010k kkkk 110k).
+/// A vector slot's jump: JMP k, or RJMP k where the linker's relaxation
+/// (-mrelax, as the Arduino core builds the Mega) shortened it.
 bool is_jmp(const uint8_t* p) {
     const uint16_t word = static_cast<uint16_t>(p[0] | (p[1] << 8));
-    return (word & 0xFE0E) == 0x940C;
+    return (word & 0xFE0E) == 0x940C || (word & 0xF000) == 0xC000;
 }
 
 std::optional<std::string> parse_mmcu_name(const uint8_t* data, std::size_t size) {
@@ -239,7 +241,7 @@ void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) 
     if (vector_table_.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
     for (std::size_t v = 0; v < count; ++v) {
         if (!is_jmp(&vector_table_[v * slot])) {
-            fail(path_, fmt::format("interrupt vector {} is not a JMP: not an {} vector table", v, chip));
+            fail(path_, fmt::format("interrupt vector {} is not a JMP or RJMP: not an {} vector table", v, chip));
         }
     }
     if (vector_table_.size() >= table + slot && is_jmp(&vector_table_[table])) {

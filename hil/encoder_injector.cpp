@@ -7,6 +7,8 @@
 #include <sim_io.h>
 #include <sim_irq.h>
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 
 #include "hil/atmega328p.hpp"
@@ -45,7 +47,12 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
             // PCIFR flags written with 1, as the chip does.
             const auto pending_of = [&](int vector) {
                 avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(vector));
-                if (irqs == nullptr) throw std::runtime_error("simavr has no IRQ for vector " + std::to_string(vector));
+                if (irqs == nullptr) {
+                    throw std::runtime_error(fmt::format(
+                        "encoder pin {}: its interrupt {} is not emulated by simavr 1.6's {} core; wire the "
+                        "encoder to an external-interrupt pin (INTn)",
+                        w.pin[s], core_.mcu().vector_name(vector), core_.mcu().label));
+                }
                 return irqs + AVR_INT_IRQ_PENDING;
             };
             if (sig.pin.ext_int) sig.ext_pending = pending_of(mcu.int0_vector + *sig.pin.ext_int);

@@ -22,8 +22,6 @@ Flow decode(uint16_t w) {
 
 /// The bottom frame's SP at entry: above any real SP, so it is never popped.
 constexpr uint16_t kRootSp = 0xFFFF;
-/// A CALL or an interrupt pushes a 2-byte return address (16-bit PC).
-constexpr uint16_t kReturnAddressBytes = 2;
 
 }  // namespace
 
@@ -35,6 +33,7 @@ FunctionProfiler::FunctionProfiler(AvrCore& core, std::size_t max_depth)
       vector_slot_(static_cast<uint32_t>(core.mcu().vector_bytes)),
       vectors_end_(static_cast<uint32_t>(core.mcu().vector_count()) * vector_slot_),
       ram_end_(core.mcu().ram_end),
+      return_bytes_(core.mcu().pc_bytes),
       max_depth_(max_depth) {
     if (max_depth_ < 2) throw std::invalid_argument("FunctionProfiler: max_depth must be >= 2");
     const uint32_t flash = core.mcu().flash_bytes;
@@ -93,21 +92,19 @@ void FunctionProfiler::update_stack(uint32_t prev_pc, uint16_t prev_sp, uint32_t
     // An interrupt taken at the end of this step pushed the address of the
     // next instruction: the instruction's own result is that PC and SP + 2.
     const bool interrupt = is_interrupt_vector(pc) && sp <= prev_sp &&
-                           sp + kReturnAddressBytes <= ram_end_;
+                           sp + return_bytes_ <= ram_end_;
     uint32_t next_pc = pc;
     uint16_t next_sp = sp;
     if (interrupt) {
-        next_sp = static_cast<uint16_t>(sp + kReturnAddressBytes);
-        // Return address: high byte at SP + 1, low byte at SP + 2 (word address).
-        const uint32_t return_word = static_cast<uint32_t>(avr_->data[sp + 1] << 8) | avr_->data[sp + 2];
-        next_pc = return_word * 2;
+        next_sp = static_cast<uint16_t>(sp + return_bytes_);
+        next_pc = core_.return_address_at(sp + 1U);
     }
 
     if (flow == kReturn && next_sp > prev_sp) {
         std::size_t keep = depth_;
         while (keep > 1 && stack_[keep - 1].sp_at_entry < next_sp) --keep;
         pop_to(keep);
-    } else if ((flow == kCall2 || flow == kCall4) && next_sp + kReturnAddressBytes == prev_sp &&
+    } else if ((flow == kCall2 || flow == kCall4) && next_sp + return_bytes_ == prev_sp &&
                next_pc != prev_pc + (flow == kCall4 ? 4U : 2U)) {
         push(map_.at(next_pc), next_sp, /*is_interrupt=*/false, /*is_tail=*/false, /*count_call=*/true);
     }

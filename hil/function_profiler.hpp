@@ -150,6 +150,7 @@ private:
     uint32_t vector_slot_;  ///< bytes per interrupt vector
     uint32_t vectors_end_;  ///< first flash byte after the vector table
     uint16_t ram_end_;
+    uint16_t return_bytes_;  ///< a CALL or an interrupt pushes this many (2: 16-bit PC, 3: 22-bit)
     /// True for the flash byte address of an interrupt vector other than RESET.
     bool is_interrupt_vector(uint32_t pc) const {
         return pc >= vector_slot_ && pc < vectors_end_ && pc % vector_slot_ == 0;

@@ -83,13 +83,12 @@ IsrMonitor::IsrMonitor(AvrCore& core, const ElfImage& elf, const IsrMonitorConfi
     avr_t* avr = core_.raw();
     for (int v = 1; v < mcu_.vector_count(); ++v) {
         VectorState& s = vectors_[static_cast<std::size_t>(v)];
-        s.irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(v));
-        if (s.irqs == nullptr) {
-            throw std::runtime_error(
-                fmt::format("IsrMonitor: simavr has no IRQs for vector {} ({})", v, mcu_.vector_name(v)));
-        }
-        s.hook = Hook{this, v};
         handlers_[static_cast<std::size_t>(v)] = vector_handler_name(core_, elf, v);
+        // A vector simavr's core does not declare (the ATmega2560's PCINT1/2
+        // in 1.6) is never raised: nothing to watch.
+        s.irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(v));
+        if (s.irqs == nullptr) continue;
+        s.hook = Hook{this, v};
         avr_irq_register_notify(s.irqs + AVR_INT_IRQ_PENDING, &IsrMonitor::on_pending, &s.hook);
         avr_irq_register_notify(s.irqs + AVR_INT_IRQ_RUNNING, &IsrMonitor::on_running, &s.hook);
     }
@@ -116,6 +115,7 @@ IsrMonitor::~IsrMonitor() {
     avr_t* avr = core_.raw();
     for (int v = 1; v < mcu_.vector_count(); ++v) {
         VectorState& s = vectors_[static_cast<std::size_t>(v)];
+        if (s.irqs == nullptr) continue;
         avr_irq_unregister_notify(s.irqs + AVR_INT_IRQ_PENDING, &IsrMonitor::on_pending, &s.hook);
         avr_irq_unregister_notify(s.irqs + AVR_INT_IRQ_RUNNING, &IsrMonitor::on_running, &s.hook);
     }

@@ -1,5 +1,7 @@
 #include "hil/mcu.hpp"
 
+#include "hil/atmega328p.hpp"
+
 namespace ddmr::hil {
 namespace {
 
@@ -35,11 +37,40 @@ std::optional<int> McuDescription::pcint_at(PortBit pin) const {
 
 std::optional<OcChannel> McuDescription::oc_at(PortBit pin) const {
     for (const TimerDesc& t : timers) {
-        for (std::size_t c = 0; c < t.pins.size(); ++c) {
+        for (std::size_t c = 0; c < static_cast<std::size_t>(t.channels); ++c) {
             if (same(t.pins[c], pin)) return OcChannel{t.index, static_cast<int>(c)};
         }
     }
     return std::nullopt;
+}
+
+UsartDesc megaavr_usart(int index, uint16_t ucsra, int rx_vector, PortBit rxd, PortBit txd) {
+    UsartDesc u;
+    u.index = index;
+    u.ucsra = ucsra;
+    u.ucsrb = static_cast<uint16_t>(ucsra + 1);
+    u.ucsrc = static_cast<uint16_t>(ucsra + 2);
+    u.ubrrl = static_cast<uint16_t>(ucsra + 4);
+    u.ubrrh = static_cast<uint16_t>(ucsra + 5);
+    u.udr = static_cast<uint16_t>(ucsra + 6);
+    u.rx_vector = rx_vector;
+    u.udre_vector = rx_vector + 1;
+    u.tx_vector = rx_vector + 2;
+    u.rxd = rxd;
+    u.txd = txd;
+    return u;
+}
+
+void set_megaavr_core_registers(McuDescription& d) {
+    namespace reg = atmega328p::reg;
+    d.spl = reg::kSpl;
+    d.sph = reg::kSph;
+    d.sreg = reg::kSreg;
+    d.mcusr = reg::kMcusr;
+    d.eecr = reg::kEecr;
+    d.eedr = reg::kEedr;
+    d.eearl = reg::kEearL;
+    d.eearh = reg::kEearH;
 }
 
 std::string oc_name(const OcChannel& oc) {

@@ -59,6 +59,8 @@ struct McuDescription {
     uint32_t eeprom_bytes = 0;
     int vector_bytes = 4;                   ///< each vector is a JMP (2 words)
     std::vector<const char*> vector_names;  ///< avr-libc's <NAME>_vect without _vect; [0] = RESET
+    /// Bytes of a return address on the stack: 2 with a 16-bit PC, 3 with a 22-bit PC.
+    uint16_t pc_bytes = 2;
     /// Cycles of RETI/RET: 4 with a 16-bit PC, 5 with a 22-bit PC (instruction set summary).
     uint32_t reti_cycles = 4;
 
@@ -102,8 +104,17 @@ struct McuDescription {
     [[nodiscard]] static unsigned isc_shift(int n) { return 2U * static_cast<unsigned>(n % 4); }
 };
 
+/// A megaAVR USART at `ucsra` (UCSRnA; B, C, UBRRnL, UBRRnH, UDRn at +1, +2,
+/// +4, +5, +6) with its RX, UDRE, TX vectors at rx_vector, +1, +2.
+UsartDesc megaavr_usart(int index, uint16_t ucsra, int rx_vector, PortBit rxd, PortBit txd);
+/// SPL, SPH, SREG, MCUSR and the EEPROM registers: the same data addresses on
+/// the ATmega328P and the ATmega2560 (both register summaries).
+void set_megaavr_core_registers(McuDescription& d);
+
 /// The ATmega328P (Uno, Nano, Pro Mini): datasheet 7810D.
 const McuDescription& atmega328p_mcu();
+/// The ATmega2560 (Mega 2560): datasheet 2549Q.
+const McuDescription& atmega2560_mcu();
 
 /// "OC1B".
 std::string oc_name(const OcChannel& oc);

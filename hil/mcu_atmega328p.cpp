@@ -23,14 +23,7 @@ McuDescription make_atmega328p() {
     d.vector_bytes = chip::kVectorBytes;
     d.vector_names.assign(chip::vector::kNames.begin(), chip::vector::kNames.end());
     d.reti_cycles = chip::kRetiCycles;
-    d.spl = reg::kSpl;
-    d.sph = reg::kSph;
-    d.sreg = reg::kSreg;
-    d.mcusr = reg::kMcusr;
-    d.eecr = reg::kEecr;
-    d.eedr = reg::kEedr;
-    d.eearl = reg::kEearL;
-    d.eearh = reg::kEearH;
+    set_megaavr_core_registers(d);
     d.ports = {{'B', reg::kPinB, reg::kDdrB, reg::kPortB},
                {'C', reg::kPinC, reg::kDdrC, reg::kPortC},
                {'D', reg::kPinD, reg::kDdrD, reg::kPortD}};
@@ -53,20 +46,9 @@ McuDescription make_atmega328p() {
     d.pcifr = reg::kPcifr;
     d.pcmsk0 = reg::kPcmsk0;
     d.timers.assign(kAtmega328pTimers.begin(), kAtmega328pTimers.end());
-    UsartDesc u0;
-    u0.index = 0;
-    u0.ucsra = reg::kUcsr0A;
-    u0.ucsrb = reg::kUcsr0B;
-    u0.ucsrc = reg::kUcsr0C;
-    u0.ubrrl = reg::kUbrr0L;
-    u0.ubrrh = reg::kUbrr0H;
-    u0.udr = reg::kUdr0;
-    u0.rx_vector = chip::vector::kUsartRx;
-    u0.udre_vector = chip::vector::kUsartUdre;
-    u0.tx_vector = chip::vector::kUsartTx;
-    u0.rxd = {'D', 0};
-    u0.txd = {'D', 1};
-    d.usarts = {u0};
+    // USART0 (chapter 20): UCSR0A at 0xC0 .. UDR0 at 0xC6, RXD0 = PD0, TXD0 = PD1.
+    static_assert(reg::kUdr0 == reg::kUcsr0A + 6 && reg::kUbrr0L == reg::kUcsr0A + 4, "USART0 layout");
+    d.usarts = {megaavr_usart(0, reg::kUcsr0A, chip::vector::kUsartRx, {'D', 0}, {'D', 1})};
     return d;
 }
 

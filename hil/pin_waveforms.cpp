@@ -28,13 +28,15 @@ TimerRegisters read_timer(const AvrCore& core, const TimerDesc& d) {
     r.tccrb = core.data(d.tccrb);
     r.ocra = read16(core, d.ocra_low, d.ocra_high);
     r.ocrb = read16(core, d.ocrb_low, d.ocrb_high);
+    r.ocrc = read16(core, d.ocrc_low, d.ocrc_high);
     r.icr = read16(core, d.icr_low, d.icr_high);
     r.tcnt = read16(core, d.tcnt_low, d.tcnt_high);
     return r;
 }
 
 bool same(const TimerRegisters& a, const TimerRegisters& b) {
-    return a.tccra == b.tccra && a.tccrb == b.tccrb && a.ocra == b.ocra && a.ocrb == b.ocrb && a.icr == b.icr;
+    return a.tccra == b.tccra && a.tccrb == b.tccrb && a.ocra == b.ocra && a.ocrb == b.ocrb && a.ocrc == b.ocrc &&
+           a.icr == b.icr;
 }
 
 }  // namespace
@@ -65,7 +67,8 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
         if (!timer_[t]) continue;
         timer_hook_[t] = Hook{this, static_cast<int>(t)};
         const TimerDesc& d = timers_[t];
-        for (const uint16_t a : {d.tccra, d.tccrb, d.ocra_low, d.ocra_high, d.ocrb_low, d.ocrb_high, d.icr_low, d.icr_high}) {
+        for (const uint16_t a : {d.tccra, d.tccrb, d.ocra_low, d.ocra_high, d.ocrb_low, d.ocrb_high, d.ocrc_low,
+                                 d.ocrc_high, d.icr_low, d.icr_high}) {
             if (a != 0) watch(a, &timer_hook_[t]);
         }
         last_regs_[t] = read_timer(core_, d);
@@ -113,9 +116,13 @@ void PinWaveforms::sample_timer(std::size_t t) {
     ++revision_;
     TimerOutputDecoder& d = *timer_[t];
     const bool was_running = d.running();
-    const std::array<bool, 2> was_connected{d.connected(0), d.connected(1)};
+    const int channels = timers_[t].channels;
+    std::array<bool, kMaxOcChannels> was_connected{};
+    for (int c = 0; c < channels; ++c) was_connected[static_cast<std::size_t>(c)] = d.connected(c);
     (void)d.on_write(core_.cycle(), r, false);
-    if (d.running() != was_running || d.connected(0) != was_connected[0] || d.connected(1) != was_connected[1]) {
+    bool changed = d.running() != was_running;
+    for (int c = 0; c < channels; ++c) changed = changed || d.connected(c) != was_connected[static_cast<std::size_t>(c)];
+    if (changed) {
         note_change(core_.cycle());
     }
     refresh_connections();

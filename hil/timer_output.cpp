@@ -11,10 +11,10 @@
 namespace ddmr::hil {
 namespace {
 
-// TCCRnA: COMnA1:0 = bits 7:6, COMnB1:0 = bits 5:4, WGMn1:0 = bits 1:0;
+// TCCRnA: COMnA1:0 = bits 7:6, COMnB1:0 = bits 5:4, COMnC1:0 = bits 3:2
+// (ATmega2560 Timer1/3/4/5; reserved on the ATmega328P), WGMn1:0 = bits 1:0;
 // TCCRnB: WGMn3:2 = bits 4:3 (Timer0/2: WGMn2 = bit 3), CSn2:0 = bits 2:0.
-constexpr unsigned kComAShift = 6;
-constexpr unsigned kComBShift = 4;
+constexpr std::array<unsigned, kMaxOcChannels> kComShift = {6, 4, 2};
 constexpr unsigned kComMask = 0x03;
 constexpr unsigned kWgmLowMask = 0x03;
 constexpr unsigned kWgmHighMask = 0x0C;  ///< TCCRnB bits 4:3 shifted right by 1
@@ -38,6 +38,10 @@ void validate(const TimerDesc& desc) {
     if (desc.bits != 8 && desc.bits != 16) {
         throw std::invalid_argument("TimerDesc of timer " + std::to_string(desc.index) + ": bits = " +
                                     std::to_string(desc.bits) + ", expected 8 or 16");
+    }
+    if (desc.channels != 2 && desc.channels != kMaxOcChannels) {
+        throw std::invalid_argument("TimerDesc of timer " + std::to_string(desc.index) + ": channels = " +
+                                    std::to_string(desc.channels) + ", expected 2 or 3");
     }
     if (desc.wgm_modes != 8 && desc.wgm_modes != 16) {
         throw std::invalid_argument("TimerDesc of timer " + std::to_string(desc.index) + ": wgm_modes = " +
@@ -101,13 +105,14 @@ void TimerOutputDecoder::configure(const TimerRegisters& regs) {
     mode_ = desc_.modes[wgm_];
     prescaler_ = desc_.prescaler[regs.tccrb & atmega328p::kClockSelectMask];
     icr_ = regs.icr & max_;
-    ch_[0].com = com_of(regs.tccra, kComAShift);
-    ch_[1].com = com_of(regs.tccra, kComBShift);
+    for (std::size_t c = 0; c < static_cast<std::size_t>(desc_.channels); ++c) {
+        ch_[c].com = com_of(regs.tccra, kComShift[c]);
+    }
 }
 
 void TimerOutputDecoder::take_ocr_writes(const TimerRegisters& regs) {
-    const std::array<uint16_t, 2> written = {regs.ocra, regs.ocrb};
-    for (std::size_t i = 0; i < ch_.size(); ++i) {
+    const std::array<uint16_t, kMaxOcChannels> written = {regs.ocra, regs.ocrb, regs.ocrc};
+    for (std::size_t i = 0; i < static_cast<std::size_t>(desc_.channels); ++i) {
         Channel& h = ch_[i];
         Cycles value = written[i] & max_;
         if (options_.mask_ocr_to_fixed_top && mode_.top_source == TopSource::kFixed) value &= mode_.fixed_top;
@@ -171,8 +176,7 @@ void TimerOutputDecoder::rebase(Cycles cycle, Count count) {
 }
 
 void TimerOutputDecoder::snapshot_levels(Cycles cycle) {
-    ch_[0].oc = level_at(0, cycle);
-    ch_[1].oc = level_at(1, cycle);
+    for (int c = 0; c < desc_.channels; ++c) ch_[static_cast<std::size_t>(c)].oc = level_at(c, cycle);
 }
 
 void TimerOutputDecoder::reset_latches() {
@@ -204,8 +208,8 @@ TimerOutputDecoder::Shape TimerOutputDecoder::shape() const {
     Shape s;
     s.running = running();
     s.wgm = wgm_;
-    s.com = {ch_[0].com, ch_[1].com};
-    s.ocr = {ch_[0].ocr, ch_[1].ocr};
+    s.com = {ch_[0].com, ch_[1].com, ch_[2].com};
+    s.ocr = {ch_[0].ocr, ch_[1].ocr, ch_[2].ocr};
     s.prescaler = prescaler_;
     s.top = top_;
     return s;
@@ -249,7 +253,7 @@ TimerOutputDecoder::Count TimerOutputDecoder::count_at(Cycles cycle) const {
 // ---- the outputs -----------------------------------------------------------------
 
 const TimerOutputDecoder::Channel& TimerOutputDecoder::chan(int ch) const {
-    assert(ch == 0 || ch == 1);
+    assert(ch >= 0 && ch < desc_.channels);
     return ch_[static_cast<std::size_t>(ch)];
 }
 

@@ -50,6 +50,7 @@
 //              in that stretch is not modelled).
 // All queries are O(1) closed forms (no loops over periods, no heap).
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -64,6 +65,7 @@ namespace ddmr::hil {
 struct TimerRegisters {
     uint8_t tccra = 0, tccrb = 0;
     uint16_t ocra = 0, ocrb = 0, icr = 0, tcnt = 0;
+    uint16_t ocrc = 0;  ///< OCRnC, on timers with three channels
 };
 
 /// Choices the datasheet leaves to the emulator.
@@ -140,8 +142,8 @@ private:
     struct Shape {
         bool running = false;
         uint8_t wgm = 0;
-        std::array<uint8_t, 2> com{};
-        std::array<uint16_t, 2> ocr{};
+        std::array<uint8_t, kMaxOcChannels> com{};
+        std::array<uint16_t, kMaxOcChannels> ocr{};
         Cycles prescaler = 0;
         Cycles top = 0;
         bool operator==(const Shape& o) const;
@@ -159,7 +161,9 @@ private:
     void apply_due(Cycles cycle);
     void apply_update(Cycles cycle);
     [[nodiscard]] Shape shape() const;
-    [[nodiscard]] bool any_pending() const { return ch_[0].pending || ch_[1].pending; }
+    [[nodiscard]] bool any_pending() const {
+        return std::any_of(ch_.begin(), ch_.end(), [](const Channel& h) { return h.pending; });
+    }
     [[nodiscard]] bool dual_slope() const;
     [[nodiscard]] bool ticking() const { return period_ != 0; }
 
@@ -196,7 +200,7 @@ private:
     Cycles match_from_ = 1;   ///< compare matches count from this cycle on
     Cycles pending_cycle_ = kNever;
     std::optional<Cycles> unreported_update_;
-    std::array<Channel, 2> ch_{};
+    std::array<Channel, kMaxOcChannels> ch_{};  ///< the first desc_.channels in use (the rest held, COM 0)
 };
 
 }  // namespace ddmr::hil

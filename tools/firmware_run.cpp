@@ -433,7 +433,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     std::vector<FirmwareRunOptions::Send> sends = options.sends;
     std::stable_sort(sends.begin(), sends.end(), [](const auto& a, const auto& b) { return a.at_s < b.at_s; });
     std::optional<hil::EepromImage> preload;
-    if (options.eeprom_preload) preload = hil::EepromPort::load_image(*options.eeprom_preload);
+    if (options.eeprom_preload) preload = hil::EepromPort::load_image(*options.eeprom_preload, *board.mcu);
     const std::string sha256 = sha256_file_hex(options.firmware);
 
     auto wall_start = std::chrono::steady_clock::now();

@@ -148,7 +148,7 @@ SimPlan plan_of(const SimCli& o) {
 std::string eeprom_csv(const hs::SimResult& r) {
     std::vector<hil::EepromLogSample> samples;
     if (r.eeprom_quantised) {
-        hil::EepromImage image = hil::EepromPort::erased();
+        hil::EepromImage image = hil::EepromPort::erased(hil::atmega328p_mcu());  // the thesis robot's Uno
         std::vector<double> times;
         for (const hs::EepromLogEntry& e : r.eeprom_log) {
             const auto addr = static_cast<std::size_t>(e.sample) * hil::eeprom_log::kAddressStride;

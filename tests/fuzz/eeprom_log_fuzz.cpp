@@ -9,8 +9,7 @@
 #include "hil/eeprom_log.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    ddmr::hil::EepromImage image{};
-    image.fill(0xFF);
+    ddmr::hil::EepromImage image(ddmr::hil::atmega328p_mcu().eeprom_bytes, 0xFF);
     std::memcpy(image.data(), data, std::min(size, image.size()));
     const int count = size > image.size() ? static_cast<int>(data[image.size()]) : static_cast<int>(size % 260);
     try {

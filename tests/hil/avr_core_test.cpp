@@ -76,7 +76,7 @@ TEST(AvrCore, ResetRestartsTheFirmwareAndKeepsTimeAndEeprom) {
     const auto elf = hil::ElfImage::read(firmware_elf());
     hil::AvrCore core(elf);
     hil::EepromPort eeprom(core);
-    hil::EepromImage image = hil::EepromPort::erased();
+    hil::EepromImage image = hil::EepromPort::erased(hil::atmega328p_mcu());
     image[7] = 0x42;
     eeprom.preload(image);
     int calls = 0;

@@ -42,7 +42,7 @@ TEST(EepromLog, UnwrapsToTheValueNearestThePreviousSample) {
 
 TEST(EepromLog, FirstSampleIsASignedByte) {
     // -0.1 m -> int(-25.0) = -25 -> byte 231 -> int8 -25 -> -0.1 m.
-    auto image = hil::EepromPort::erased();
+    auto image = hil::EepromPort::erased(hil::atmega328p_mcu());
     image[0] = encode(-0.1);
     image[500] = encode(0.1);
     ASSERT_EQ(image[0], 231);
@@ -63,7 +63,7 @@ TEST(EepromLog, DecodesA0_6MetreCircleWithin4mm) {
     // Truncation loses < 1 count = 4 mm; a wrong unwrap jumps 1.024 m.
     constexpr int kSamples = 120;
     constexpr double kR = 0.6;
-    auto image = hil::EepromPort::erased();
+    auto image = hil::EepromPort::erased(hil::atmega328p_mcu());
     std::vector<double> xs, ys;
     for (int k = 0; k < kSamples; ++k) {
         const double a = 2 * kPi * (k + 1) / kSamples;
@@ -91,7 +91,7 @@ TEST(EepromLog, DecodesA0_6MetreCircleWithin4mm) {
 }
 
 TEST(EepromLog, RejectsSampleCountsOutsideTheLog) {
-    const auto image = hil::EepromPort::erased();
+    const auto image = hil::EepromPort::erased(hil::atmega328p_mcu());
     EXPECT_NO_THROW((void)hil::decode_eeprom_log(image, 0));
     EXPECT_NO_THROW((void)hil::decode_eeprom_log(image, 250));  // x bytes 0..498
     for (const int bad : {-1, 251}) {
@@ -107,7 +107,7 @@ TEST(EepromLog, RejectsSampleCountsOutsideTheLog) {
 
 TEST(EepromLog, CsvHasFixedPrecisionRows) {
     // Sample 0: bytes 231, 25 -> (-0.1, 0.1); sample 1: bytes 0, 50 -> (0, 0.2).
-    auto image = hil::EepromPort::erased();
+    auto image = hil::EepromPort::erased(hil::atmega328p_mcu());
     image[0] = 231;
     image[500] = 25;
     image[2] = 0;
@@ -195,8 +195,7 @@ TEST(EepromLog, DecodesTheFirmwaresLogOfAKnownTurn) {
 }  // namespace
 TEST(EepromLog, AContractsLayoutAddressesScalesAndSignedness) {
     // x bytes at 100.., y bytes at 300.., one byte per sample, 100 counts per metre.
-    hil::EepromImage image{};
-    image.fill(0xFF);
+    hil::EepromImage image = hil::EepromPort::erased(hil::atmega328p_mcu());
     image[100] = 200;  // sample 0 x: 200 counts unsigned (2.00 m), -56 signed
     image[101] = 10;
     image[300] = 5;

@@ -28,7 +28,7 @@ TEST(EepromPort, Case1LogsEveryOtherByteOfTwoBlocks) {
 TEST(EepromPort, PreloadIsWhatTheFirmwareReads) {
     // Bytes 240 and 740 are never written by case 1 but are printed as its
     // last pair (j <= addr): 125 / 250 = 0.5 and 50 / 250 = 0.2.
-    auto image = hil::EepromPort::erased();
+    auto image = hil::EepromPort::erased(hil::atmega328p_mcu());
     image[240] = 125;
     image[740] = 50;
     const auto run = run_reference_case('1', hil::UartTiming::kChip, image);
@@ -43,8 +43,8 @@ TEST(EepromPort, PreloadIsWhatTheFirmwareReads) {
 TEST(EepromPort, ReadBackEqualsPreload) {
     hil::AvrCore core(hil::ElfImage::read(firmware_elf()));
     hil::EepromPort port(core);
-    EXPECT_EQ(port.read_all(), hil::EepromPort::erased());  // a new chip
-    hil::EepromImage image{};
+    EXPECT_EQ(port.read_all(), hil::EepromPort::erased(hil::atmega328p_mcu()));  // a new chip
+    hil::EepromImage image(hil::atmega328p_mcu().eeprom_bytes, 0);
     for (std::size_t i = 0; i < image.size(); ++i) image[i] = static_cast<uint8_t>(i * 7);
     port.preload(image);
     EXPECT_EQ(port.read_all(), image);
@@ -54,13 +54,13 @@ TEST(EepromPort, ImageFileMustHold1024Bytes) {
     TempDir dir;
     std::ofstream(dir / "short.bin", std::ios::binary) << std::string(1000, '\xFF');
     try {
-        (void)hil::EepromPort::load_image(dir / "short.bin");
+        (void)hil::EepromPort::load_image(dir / "short.bin", hil::atmega328p_mcu());
         FAIL() << "a 1000-byte image was accepted";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("1000 bytes"), std::string::npos) << e.what();
     }
     std::ofstream(dir / "ok.bin", std::ios::binary) << std::string(1024, '\x11');
-    EXPECT_EQ(hil::EepromPort::load_image(dir / "ok.bin")[1023], 0x11);
+    EXPECT_EQ(hil::EepromPort::load_image(dir / "ok.bin", hil::atmega328p_mcu())[1023], 0x11);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ constexpr uint8_t kEepeMask = 1U << hil::atmega328p::eecr_bit::kEepe;
 
 struct Case1Writes {
     std::vector<hil::EepromWrite> writes;
-    hil::EepromImage eeprom{};
+    hil::EepromImage eeprom;
     hil::Cycles case_start_cycle = 0;  ///< cycle '1' was sent
     hil::Cycles busy_cycles_total = 0;
     bool busy_at_stop = false;

@@ -12,6 +12,7 @@
 #include <random>
 
 #include "hil/avr_timers.hpp"
+#include "hil/mcu.hpp"
 #include "plant/pwm_waveform.hpp"
 
 namespace ddmr::test {
@@ -724,6 +725,31 @@ TEST(TimerOutputDecoder, BitIdenticalToTheLegacyDecodingOnTimer2Pin11) {
     BitIdentity b(2, 0x5EED0002);
     b.run(20000);
     EXPECT_GT(b.compared(), 30000);
+}
+
+// ATmega2560 Timer3 (datasheet 2549Q ch. 17): the third channel. Fast PWM
+// 8-bit (mode 5, WGM32 + WGM30), N = 8: period (255 + 1) x 8 = 2048 cycles
+// (7.8 kHz at 16 MHz); COM3C = 10 (bits 3:2 of TCCR3A) with OCR3C = 63: high
+// for (63 + 1) x 8 = 512 cycles, duty 64/256; OC3A/OC3B disconnected.
+TEST(TimerOutputDecoder, Atmega2560Timer3ChannelC) {
+    const hil::TimerDesc& t3 = hil::atmega2560_mcu().timers.at(3);
+    ASSERT_EQ(t3.channels, 3);
+    EXPECT_EQ(t3.ocrc_low, 0x9C);  // OCR3CL
+    hil::TimerOutputDecoder dec(t3);
+    hil::TimerRegisters r;
+    r.tccra = static_cast<uint8_t>((2U << 2U) | 1U);  // COM3C = 10, WGM30
+    r.tccrb = static_cast<uint8_t>(1U << 3U);          // WGM32, stopped
+    r.ocrc = 63;
+    (void)dec.on_write(0, r, false);
+    r.tccrb = static_cast<uint8_t>((1U << 3U) | kCs8);
+    (void)dec.on_write(0, r, false);
+    constexpr int kC = 2;
+    EXPECT_TRUE(dec.connected(kC));
+    EXPECT_FALSE(dec.connected(kA));
+    EXPECT_EQ(dec.period_cycles(kC), 2048u);
+    EXPECT_EQ(measure(dec, kC, 0).period, 2048u);
+    EXPECT_EQ(measure(dec, kC, 0).high, 512u);
+    EXPECT_DOUBLE_EQ(dec.duty(kC), 64.0 / 256.0);
 }
 
 }  // namespace

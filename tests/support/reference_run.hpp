@@ -19,7 +19,7 @@ namespace ddmr::test {
 struct ReferenceRun {
     std::vector<hil::UartByte> bytes;
     std::string text;
-    hil::EepromImage eeprom{};
+    hil::EepromImage eeprom;
     hil::Cycles ready_cycle = 0;
     hil::Cycles end_cycle = 0;
     hil::Cycles cycles_per_byte = 0;

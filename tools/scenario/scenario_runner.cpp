@@ -94,7 +94,7 @@ public:
         : s_(s), out_dir_(out_dir), progress_(progress), elf_(hil::ElfImage::read(s.firmware)) {
         const hil::BoardDescription& board = hil::board_description(s.board.model);
         elf_.require_mcu(*board.mcu, board.key);
-        if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload);
+        if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload, *board.mcu);
         hil::RigConfig config;
         config.plant = s.plant;
         config.board = s.board;
