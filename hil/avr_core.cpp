@@ -158,6 +158,7 @@ AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config)
     avr->log = SimavrLog::kLevelWarning;
 
     apply_setup();
+    pin_change_ = std::make_unique<PinChangeRestorer>(avr, chip);
     normal_run_ = avr->run;
 }
 

@@ -8,6 +8,7 @@
 //   - the board's clock set before the firmware is loaded (avr_init leaves 1 MHz);
 //   - UART stdio and poll-sleep flags off; no wall-clock sleep callback;
 //   - INT0/INT1 strict level triggering off (its 1-cycle poll costs 4x speed);
+//   - pin-change groups simavr's core lacks restored (PinChangeRestorer);
 //   - simavr's log routed to this instance's SimavrLog;
 //   - instructions batched between cycle timers (run_cycle_limit).
 //
@@ -22,6 +23,7 @@
 #include "hil/board_description.hpp"
 #include "hil/cycle_time.hpp"
 #include "hil/elf_image.hpp"
+#include "hil/pin_change_restorer.hpp"
 #include "hil/simavr_log.hpp"
 
 struct avr_t;
@@ -71,6 +73,8 @@ public:
     const ElfImage& elf() const { return elf_; }
     Cycles cycle() const;
     const BoardDescription& board() const { return board_; }
+    /// The pin-change groups restored where simavr's core lacks them (empty on the ATmega328P).
+    std::vector<int> restored_pin_change_groups() const { return pin_change_->restored_groups(); }
     const McuDescription& mcu() const { return *board_.mcu; }
     /// The board's clock [Hz]: every conversion between cycles and seconds uses it.
     uint32_t clock_hz() const { return board_.clock_hz; }
@@ -169,6 +173,8 @@ private:
     AvrCoreConfig config_;
     const BoardDescription& board_;
     SimavrLog log_;
+    /// Declared before avr_: simavr keeps pointers to its vectors until avr_ is freed.
+    std::unique_ptr<PinChangeRestorer> pin_change_;
     std::unique_ptr<avr_t, AvrDeleter> avr_;
     bool stop_requested_ = false;
     /// A callback and who installed it (instruction hooks, reset listeners).

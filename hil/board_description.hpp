@@ -60,7 +60,7 @@ const BoardDescription& board_description(BoardModel model);
 const std::vector<BoardModel>& board_models();
 /// "uno" -> BoardModel::uno; nullopt for an unknown key.
 std::optional<BoardModel> parse_board_key(const std::string& key);
-/// "uno, nano or pro-mini-8mhz": for messages.
+/// "uno, nano, pro-mini-8mhz or mega2560": for messages.
 std::string board_key_list();
 
 /// The Arduino number of the pin at that port bit, if the board brings it out.

@@ -34,6 +34,7 @@ int EepromLogLayout::max_samples(int eeprom_bytes) const {
     const int hi = std::max(x_address, y_address);
     // The lower series must stay below the upper one, the upper below the end.
     const int below_hi = hi > lo ? (hi - lo + stride - 1) / stride : 0;
+    if (hi >= eeprom_bytes) return 0;
     const int below_end = (eeprom_bytes - hi + stride - 1) / stride;
     return hi > lo ? std::min(below_hi, below_end) : 0;
 }
@@ -41,10 +42,12 @@ int EepromLogLayout::max_samples(int eeprom_bytes) const {
 std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sample_count,
                                                const std::vector<double>& sample_times_s,
                                                const EepromLogLayout& layout) {
-    if (sample_count < 0 || sample_count > layout.max_samples()) {
+    const int max = layout.max_samples(static_cast<int>(image.size()));
+    if (sample_count < 0 || sample_count > max) {
         throw std::invalid_argument(fmt::format(
-            "EEPROM log: sample count {} outside [0, {}] (x bytes from address {}, y bytes from {}, stride {})",
-            sample_count, layout.max_samples(), layout.x_address, layout.y_address, layout.stride));
+            "EEPROM log: sample count {} outside [0, {}] (x bytes from address {}, y bytes from {}, stride {}, "
+            "{}-byte EEPROM)",
+            sample_count, max, layout.x_address, layout.y_address, layout.stride, image.size()));
     }
     const auto n = static_cast<std::size_t>(sample_count);
     if (!sample_times_s.empty() && sample_times_s.size() != n) {
@@ -82,8 +85,8 @@ std::vector<EepromLogSample> decode_eeprom_log(const EepromImage& image, int sam
 }
 
 EepromLogTiming eeprom_log_timing(const std::vector<EepromWrite>& writes, Cycles origin_cycle,
-                                  uint32_t clock_hz, const EepromLogLayout& layout) {
-    const int max = layout.max_samples();
+                                  uint32_t clock_hz, int eeprom_bytes, const EepromLogLayout& layout) {
+    const int max = layout.max_samples(eeprom_bytes);
     constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
     EepromLogTiming timing;
     for (const auto& w : writes) {

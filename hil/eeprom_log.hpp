@@ -56,8 +56,11 @@ struct EepromLogLayout {
     bool is_signed = true;  ///< false: each byte is 0..255 counts (no unwrapping)
     bool unwrap = true;
     double sample_period_s = eeprom_log::kSamplePeriod_s;  ///< nominal time between samples [s]
-    /// Samples that fit: the x bytes stay below the y bytes (or the EEPROM's end).
-    int max_samples(int eeprom_bytes = static_cast<int>(atmega328p::kEepromBytes)) const;
+    /// Samples that fit in an EEPROM of `eeprom_bytes`: the x bytes stay below
+    /// the y bytes (or the EEPROM's end); 0 when a series starts past the end.
+    int max_samples(int eeprom_bytes) const;
+    /// The highest address the layout starts a series at.
+    int last_series_start() const { return x_address > y_address ? x_address : y_address; }
 };
 
 struct EepromLogSample {
@@ -95,7 +98,7 @@ struct EepromLogTiming {
 /// 2k, timed by its latest write. Throws std::invalid_argument naming the
 /// sample if some sample below the highest one was never written.
 EepromLogTiming eeprom_log_timing(const std::vector<EepromWrite>& writes, Cycles origin_cycle,
-                                  uint32_t clock_hz, const EepromLogLayout& layout = {});
+                                  uint32_t clock_hz, int eeprom_bytes, const EepromLogLayout& layout = {});
 
 /// CSV with header "sample,t_s,x_m,y_m" and one row per sample, fixed
 /// precision (6 decimals), locale-independent: the same samples give the same

@@ -62,11 +62,20 @@ struct ElfDeleter {
 };
 
 /// True when the 4 bytes at `p` are a JMP instruction (1001 010k kkkk 110k).
+uint16_t word_at(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
+
 /// A vector slot's jump: JMP k, or RJMP k where the linker's relaxation
 /// (-mrelax, as the Arduino core builds the Mega) shortened it.
 bool is_jmp(const uint8_t* p) {
-    const uint16_t word = static_cast<uint16_t>(p[0] | (p[1] << 8));
+    const uint16_t word = word_at(p);
     return (word & 0xFE0E) == 0x940C || (word & 0xF000) == 0xC000;
+}
+
+/// A whole 4-byte vector slot: JMP k, or a relaxed RJMP k followed by NOP
+/// (what follows the table is code or data: one RJMP-like word is no vector).
+bool is_vector_slot(const uint8_t* p) {
+    const uint16_t word = word_at(p);
+    return (word & 0xFE0E) == 0x940C || ((word & 0xF000) == 0xC000 && word_at(p + 2) == 0x0000);
 }
 
 std::optional<std::string> parse_mmcu_name(const uint8_t* data, std::size_t size) {
@@ -244,7 +253,7 @@ void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) 
             fail(path_, fmt::format("interrupt vector {} is not a JMP or RJMP: not an {} vector table", v, chip));
         }
     }
-    if (vector_table_.size() >= table + slot && is_jmp(&vector_table_[table])) {
+    if (vector_table_.size() >= table + slot && is_vector_slot(&vector_table_[table])) {
         fail(path_, fmt::format("has more than {} interrupt vectors: built for another avr{} MCU, not the {}", count,
                                 mcu.elf_arch, on));
     }

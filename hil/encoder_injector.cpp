@@ -25,6 +25,10 @@ enum class Sense : uint8_t { low_level = 0, change = 1, falling = 2, rising = 3 
 
 EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core_(core) {
     validate(board);
+    if (board.model != core.board().model) {
+        throw std::logic_error(std::string("EncoderInjector: the wiring is for board ") +
+                               board_description(board.model).key + ", the core runs " + core.board().key);
+    }
     avr_t* avr = core_.raw();
     const McuDescription& mcu = core_.mcu();
     for (unsigned ch = 0; ch < 2; ++ch) {

@@ -90,7 +90,8 @@ void FunctionProfiler::update_stack(uint32_t prev_pc, uint16_t prev_sp, uint32_t
         return;
     }
     // An interrupt taken at the end of this step pushed the address of the
-    // next instruction: the instruction's own result is that PC and SP + 2.
+    // next instruction: the instruction's own result is that PC and SP + the
+    // return address's bytes (2, or 3 with a 22-bit PC).
     const bool interrupt = is_interrupt_vector(pc) && sp <= prev_sp &&
                            sp + return_bytes_ <= ram_end_;
     uint32_t next_pc = pc;

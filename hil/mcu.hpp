@@ -24,6 +24,9 @@ namespace ddmr::hil {
 /// a set of vectors fits one 64-bit mask (bit v = vector v).
 inline constexpr int kMaxVectors = 64;
 using VectorMask = uint64_t;
+/// The largest EEPROM of a supported MCU (the ATmega2560's 4 KiB): what a
+/// sketch contract may address before the board is known.
+inline constexpr uint32_t kMaxEepromBytes = 4096;
 
 /// An I/O port's three registers: PINx (input levels), DDRx (1 = output),
 /// PORTx (output level, or the pull-up of an input).

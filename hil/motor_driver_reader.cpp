@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace ddmr::hil {
 namespace {
@@ -48,6 +50,10 @@ V T::*field_of(DriverRole r) {
 
 MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board)
     : board_((validate(board), board)), pins_(core, driver_pins(board)) {
+    if (board.model != core.board().model) {
+        throw std::logic_error(std::string("MotorDriverReader: the wiring is for board ") +
+                               board_description(board.model).key + ", the core runs " + core.board().key);
+    }
     for (std::size_t m = 0; m < 2; ++m) {
         const MotorWiring& w = board_.wheel[m].motor;
         wheel_[m].driver = w.driver;

@@ -5,6 +5,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "hil/mcu.hpp"
 #include "hil/yaml_reader.hpp"
 
 namespace ddmr::hil {
@@ -158,7 +159,7 @@ SketchContract load_sketch_contract(const std::filesystem::path& path) {
         r.only_keys(n, "eeprom-log",
                     {"x-address", "y-address", "stride", "counts-per-metre", "signed", "unwrap", "sample-period"});
         EepromLogLayout l;
-        const auto eeprom_end = static_cast<long>(atmega328p::kEepromBytes) - 1;
+        const auto eeprom_end = static_cast<long>(kMaxEepromBytes) - 1;  // the board's is checked at run time
         if (!n["x-address"] || !n["y-address"]) r.fail(n, "eeprom-log", "give x-address and y-address");
         l.x_address = static_cast<int>(r.integer(n["x-address"], "eeprom-log.x-address", 0, eeprom_end));
         l.y_address = static_cast<int>(r.integer(n["y-address"], "eeprom-log.y-address", 0, eeprom_end));
@@ -173,7 +174,9 @@ SketchContract load_sketch_contract(const std::filesystem::path& path) {
         }
         if (!l.is_signed) l.unwrap = false;
         if (n["sample-period"]) l.sample_period_s = duration_s(r, n["sample-period"], "eeprom-log.sample-period");
-        if (l.max_samples() == 0) r.fail(n, "eeprom-log", "the x and y series leave no room for a sample");
+        if (l.max_samples(static_cast<int>(kMaxEepromBytes)) == 0) {
+            r.fail(n, "eeprom-log", "the x and y series leave no room for a sample");
+        }
         c.eeprom_log = l;
     }
     return c;

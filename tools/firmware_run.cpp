@@ -413,6 +413,15 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             }
         }
     }
+    if (contract && contract->eeprom_log) {
+        const auto& l = *contract->eeprom_log;
+        if (l.max_samples(static_cast<int>(board.mcu->eeprom_bytes)) == 0) {
+            throw std::invalid_argument(fmt::format(
+                "contract {}: eeprom-log: the series at x-address {} and y-address {} leave no room for a sample "
+                "in the {}'s {}-byte EEPROM",
+                contract->source, l.x_address, l.y_address, board.mcu->label, board.mcu->eeprom_bytes));
+        }
+    }
     const bool reports = contract && contract->report == hil::ReportFormat::kDdmrTracking;
     const bool completes = contract && contract->complete;
     std::optional<hil::ElfSymbol> loop_mark;
@@ -863,7 +872,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     hil::EepromLogTiming log_timing;
     if (contract && contract->eeprom_log) {
         log_timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), result.ready_cycle.value_or(0),
-                                            core.clock_hz(), *contract->eeprom_log);
+                                            core.clock_hz(), static_cast<int>(core.mcu().eeprom_bytes),
+                                            *contract->eeprom_log);
     }
     // The EEPROM log, where the contract says the sketch keeps one.
     const auto log = contract && contract->eeprom_log

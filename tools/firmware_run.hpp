@@ -84,7 +84,7 @@ struct FirmwareRunOptions {
     /// the firmware's frames as a real adapter would (garbage and framing
     /// errors when the rates differ); unset: the host reads the bytes as sent.
     std::optional<uint32_t> baud;
-    std::optional<std::filesystem::path> eeprom_preload;  ///< 1024-byte image
+    std::optional<std::filesystem::path> eeprom_preload;  ///< image of the MCU's EEPROM size
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
     std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML
     std::optional<std::filesystem::path> board_file;  ///< board YAML (overrides the plant file's)

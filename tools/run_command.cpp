@@ -64,7 +64,8 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->capture_default_str();
     sub->add_option("--out", cli->out_dir, "Output folder [default: out/run-case<N>]");
     sub->add_option("--eeprom", cli->eeprom_preload,
-                    "Preload the EEPROM from this 1024-byte image (default: erased, all 0xFF)");
+                    "Preload the EEPROM from this image, the MCU's size (1024 bytes on the ATmega328P, 4096 on the "
+                    "ATmega2560; default: erased, all 0xFF)");
     cli->ready_option = sub->add_option("--ready-symbol", cli->options.ready_symbol,
                                         "Reference protocol: send the case byte when the firmware first returns "
                                         "from this function (asks for that protocol)")

@@ -125,13 +125,13 @@ TEST(EepromLog, TimingComesFromTheXByteWrites) {
     // (before the origin) are ignored.
     const std::vector<hil::EepromWrite> writes = {
         {500, 40, 1}, {1'601'000, 0, 7}, {1'653'736, 500, 0}, {3'201'000, 2, 14}, {3'253'736, 502, 1}};
-    const auto t = hil::eeprom_log_timing(writes, 1'000, kUnoClockHz);
+    const auto t = hil::eeprom_log_timing(writes, 1'000, kUnoClockHz, 1024);
     EXPECT_EQ(t.sample_count, 2);
     ASSERT_EQ(t.times_s.size(), 2u);
     EXPECT_DOUBLE_EQ(t.times_s[0], 0.1);
     EXPECT_DOUBLE_EQ(t.times_s[1], 0.2);
     // Sample 1 written without sample 0: a gap.
-    EXPECT_THROW((void)hil::eeprom_log_timing({{1'601'000, 2, 7}}, 0, kUnoClockHz), std::invalid_argument);
+    EXPECT_THROW((void)hil::eeprom_log_timing({{1'601'000, 2, 7}}, 0, kUnoClockHz, 1024), std::invalid_argument);
 }
 
 TEST(EepromLog, DecodesTheFirmwaresLogOfAKnownTurn) {
@@ -164,7 +164,7 @@ TEST(EepromLog, DecodesTheFirmwaresLogOfAKnownTurn) {
     const auto& report = parser.report();
 
     // 1200 iterations, a log call every 10: 120 samples; the sketch prints addr = 240.
-    const auto timing_of_log = hil::eeprom_log_timing(timing.writes(), origin, kUnoClockHz);
+    const auto timing_of_log = hil::eeprom_log_timing(timing.writes(), origin, kUnoClockHz, 1024);
     ASSERT_EQ(timing_of_log.sample_count, 120);
     EXPECT_EQ(report.addr.value_or(-1), 2.0 * timing_of_log.sample_count);
     const auto log = hil::decode_eeprom_log(eeprom.read_all(), timing_of_log.sample_count,
@@ -207,7 +207,9 @@ TEST(EepromLog, AContractsLayoutAddressesScalesAndSignedness) {
     l.counts_per_metre = 100.0;
     l.unwrap = false;
     l.sample_period_s = 0.01;
-    EXPECT_EQ(l.max_samples(), 200);  // x bytes below 300
+    EXPECT_EQ(l.max_samples(1024), 200);  // x bytes below 300
+    EXPECT_EQ(l.max_samples(4096), 200);
+    EXPECT_EQ(l.max_samples(300), 0);  // the y series would start past the end
     auto s = hil::decode_eeprom_log(image, 2, {}, l);
     ASSERT_EQ(s.size(), 2u);
     EXPECT_DOUBLE_EQ(s[0].x_m, -0.56);

@@ -52,7 +52,7 @@ TEST(SketchContract, TheReferenceSketchsContract) {
     EXPECT_EQ(c.eeprom_log->stride, 2);
     EXPECT_DOUBLE_EQ(c.eeprom_log->counts_per_metre, 250.0);
     EXPECT_DOUBLE_EQ(c.eeprom_log->sample_period_s, 0.1);
-    EXPECT_EQ(c.eeprom_log->max_samples(), 250);
+    EXPECT_EQ(c.eeprom_log->max_samples(1024), 250);
 }
 
 TEST(SketchContract, AnEmptyContractSaysNothing) {
@@ -80,8 +80,8 @@ TEST(SketchContract, RefusesWithFileLineAndKey) {
     EXPECT_EQ(refusal("eeprom-log: {x-address: 0, y-address: 500, signed: false, unwrap: true}\n"),
               "hil.yaml:1: key 'eeprom-log.unwrap': unwrapping starts from a signed first sample: not with signed: false");
     EXPECT_EQ(refusal("pose: {x: a, y: b}\n"), "hil.yaml:1: key 'pose.theta': missing: the float global that holds it");
-    EXPECT_EQ(refusal("eeprom-log: {x-address: 0, y-address: 2000}\n"),
-              "hil.yaml:1: key 'eeprom-log.y-address': 2000 is outside [0, 1023]");
+    EXPECT_EQ(refusal("eeprom-log: {x-address: 0, y-address: 5000}\n"),
+              "hil.yaml:1: key 'eeprom-log.y-address': 5000 is outside [0, 4095]");  // the largest EEPROM (Mega)
     EXPECT_EQ(refusal("eeprom-log: {x-address: 10, y-address: 10}\n"),
               "hil.yaml:1: key 'eeprom-log': the x and y series leave no room for a sample");
     EXPECT_EQ(refusal("start: [\n"), refusal("start: [\n"));  // malformed YAML: named, with its line

@@ -67,7 +67,7 @@ inline RigRun run_rig_case(char case_byte, const hil::RigConfig& config = {}, do
     }
     run.end_truth = rig.robot().pose();
     run.max_latency = rig.coupler().max_input_latency_cycles();
-    const auto timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), run.ready_cycle, kUnoClockHz);
+    const auto timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), run.ready_cycle, kUnoClockHz, 1024);
     run.log = hil::decode_eeprom_log(rig.eeprom().read_all(), timing.sample_count, timing.times_s);
     const auto& it = run.iteration_cycles;
     if (it.size() > 1) {

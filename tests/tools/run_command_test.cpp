@@ -393,7 +393,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"VcdFolderMissing", "--vcd @TMP@/nodir/run.vcd", "--vcd"},
         BadInput{"VcdIsAFolder", "--vcd @TMP@", "--vcd"},
         BadInput{"TopZero", "--profile --top 0", "--top"},
-        BadInput{"TopNotANumber", "--profile --top many", "--top"}),
+        BadInput{"TopNotANumber", "--profile --top many", "--top"},
+        BadInput{"ContractEepromLogPastTheChip",
+                 "--firmware " + (test_firmware_dir() / "echo_fixture.elf").string() + " --contract " +
+                     (source_dir() / "tests/firmware/contract_eeprom_4k.yaml").string(),
+                 "no room for a sample in the ATmega328P's 1024-byte EEPROM"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
 
 

@@ -19,7 +19,6 @@ from plot_common import plt, save as save_figure
 
 # The reference sketch's goal circles: radius [m], period [s].
 CASES = {1: (0.6, 12.0), 2: (0.4, 8.0)}
-CLOCK_HZ = 16e6
 
 
 def read_csv(path):
@@ -59,7 +58,7 @@ def main(argv):
 
     case = summary.get("case", 1)
     radius, period = CASES.get(case, (0.6, 12.0))
-    ready_s = (summary.get("ready_cycle") or 0) / CLOCK_HZ
+    ready_s = (summary.get("ready_cycle") or 0) / summary["board"]["clock_hz"]  # the board's clock
     t_case = [t - ready_s for t in truth["t_s"]]
     in_case = [i for i, t in enumerate(t_case) if 0.0 <= t <= period + 0.5]
     plots = []

@@ -36,7 +36,8 @@ std::string junit_xml(const std::string& suite_name, const std::vector<ScenarioR
         tc.append_attribute("time") = fmt::format("{:.3f}", r.wall_seconds).c_str();
         std::ostringstream log;
         for (const auto& s : r.steps) {
-            log << fmt::format("line {:>3} t={:>10.6f} s {:<4} {}{}{}\n", s.line, static_cast<double>(s.cycle) / 16e6,
+            log << fmt::format("line {:>3} t={:>10.6f} s {:<4} {}{}{}\n", s.line,
+                               r.clock_hz == 0 ? 0.0 : static_cast<double>(s.cycle) / r.clock_hz,
                                s.passed ? "ok" : "FAIL", s.text, s.message.empty() ? "" : "  -- ", s.message);
         }
         if (r.verdict != Verdict::kPass) {

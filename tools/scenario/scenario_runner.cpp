@@ -169,6 +169,7 @@ public:
         }
         r.cycles = core().cycle();
         r.sim_seconds = seconds(r.cycles);
+        r.clock_hz = rig_->core().clock_hz();
         r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         r.uart_bytes = text_.size();
         r.framing_errors = adapter_->framing_errors();
@@ -419,7 +420,8 @@ private:
     std::vector<hil::EepromLogSample> eeprom_log() {
         const hil::EepromImage image = rig_->eeprom().read_all();
         const hil::EepromLogTiming timing =
-            hil::eeprom_log_timing(rig_->eeprom_timing().latest_writes(), origin_cycle_, core().clock_hz());
+            hil::eeprom_log_timing(rig_->eeprom_timing().latest_writes(), origin_cycle_, core().clock_hz(),
+                                   static_cast<int>(core().mcu().eeprom_bytes));
         return hil::decode_eeprom_log(image, timing.sample_count, timing.times_s);
     }
     std::string run_step(const ExpectEeprom& e) {
@@ -437,7 +439,7 @@ private:
                                                                  static_cast<uint8_t>(want[a]), image[a])};
                 }
             }
-            note = "1024 bytes equal";
+            note = fmt::format("{} bytes equal", image.size());
         }
         if (e.log) {
             const auto log = eeprom_log();
@@ -687,6 +689,7 @@ private:
             {"exit_code", exit_code(r.verdict)},
             {"message", r.message},
             {"cycles", r.cycles},
+            {"clock_hz", r.clock_hz},
             {"sim_seconds", r.sim_seconds},
             {"steps", steps},
             {"steps_total", s_.steps.size()},

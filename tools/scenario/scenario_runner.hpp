@@ -57,6 +57,7 @@ struct ScenarioResult {
     std::string message;           ///< one line: why it did not pass
     std::vector<StepOutcome> steps;  ///< the steps run (the last one failed if verdict != pass)
     Cycles cycles = 0;
+    uint32_t clock_hz = 0;  ///< the board's clock: step cycles in seconds
     double sim_seconds = 0.0;
     double wall_seconds = 0.0;
     uint64_t uart_bytes = 0;       ///< what the adapter received (all of it in uart.txt)

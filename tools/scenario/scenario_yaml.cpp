@@ -384,7 +384,7 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
             if (!c.has("tol_m")) c.fail("log needs tol_m");
             e.tol_m = c.child("tol_m").number_in(0, 100, "[0, 100] m");
         }
-        if (!e.bin && !e.log) c.fail("give bin (raw 1024 bytes) or log (CSV) with tol_m");
+        if (!e.bin && !e.log) c.fail("give bin (the raw EEPROM, every byte) or log (CSV) with tol_m");
         return e;
     }
     if (kind == "expect-compare") {

@@ -43,6 +43,7 @@ ScenarioResult read_scenario_result(const fs::path& dir) {
         r.verdict = v == "pass" ? Verdict::kPass : v == "fail" ? Verdict::kFail : Verdict::kFirmware;
         r.message = j.at("message").get<std::string>();
         r.cycles = j.at("cycles").get<uint64_t>();
+        r.clock_hz = j.at("clock_hz").get<uint32_t>();
         r.sim_seconds = j.at("sim_seconds").get<double>();
         for (const auto& st : j.at("steps")) {
             r.steps.push_back({st.at("line").get<int>(), st.at("kind").get<std::string>(),
