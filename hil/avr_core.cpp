@@ -1,6 +1,7 @@
 #include "hil/avr_core.hpp"
 
 #include <algorithm>
+#include <type_traits>
 
 #include <avr_extint.h>
 #include <avr_uart.h>
@@ -133,7 +134,11 @@ void AvrCore::widen_data_space(avr_t* avr) {
 }
 
 AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config)
-    : elf_(elf), config_(config), board_(board_description(config.board)) {
+    : elf_(elf),
+      config_(config),
+      board_(board_description(config.board)),
+      spl_(board_.mcu->spl),
+      sph_(board_.mcu->sph) {
     if (config_.run_cycle_limit == 0) {
         throw std::invalid_argument("AvrCore: run_cycle_limit must be >= 1");
     }
@@ -147,6 +152,11 @@ AvrCore::AvrCore(const ElfImage& elf, const AvrCoreConfig& config)
     avr->custom.data = &log_;  // routes this instance's log (see simavr_log.cpp)
     if (avr_init(avr) != 0) throw std::runtime_error(fmt::format("simavr could not initialise the {}", chip.label));
     widen_data_space(avr);
+    static_assert(std::is_same_v<decltype(avr->cycle), avr_cycle_count_t> && sizeof(avr_cycle_count_t) == 8);
+    static_assert(std::is_same_v<decltype(avr->pc), avr_flashaddr_t> && sizeof(avr_flashaddr_t) == 4);
+    cycle_ = &avr->cycle;
+    pc_ = &avr->pc;
+    data_ = avr->data;
 
     FirmwareBuffers buffers;
     read_loadable(elf_, chip, buffers);
@@ -237,17 +247,12 @@ void AvrCore::remove_reset_listener(const void* owner) { erase_owned(reset_liste
 
 AvrCore::~AvrCore() = default;
 
-Cycles AvrCore::cycle() const { return avr_->cycle; }
-uint32_t AvrCore::pc() const { return avr_->pc; }
 uint32_t AvrCore::return_address_at(uint32_t first) const {
     uint32_t word = 0;
     for (uint32_t i = 0; i < mcu().pc_bytes; ++i) word = (word << 8) | avr_->data[(first + i) & 0xFFFFU];
     return word * 2;
 }
 
-uint16_t AvrCore::stack_pointer() const {
-    return static_cast<uint16_t>(avr_->data[mcu().spl] | (avr_->data[mcu().sph] << 8));
-}
 uint8_t AvrCore::data(uint16_t address) const {
     if (address > avr_->ramend) {
         throw std::out_of_range("AVR data address " + std::to_string(address) + " past RAMEND");

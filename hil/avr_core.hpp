@@ -71,7 +71,7 @@ public:
     /// The simavr instance, for parts to attach their IRQs and timers to.
     avr_t* raw() { return avr_.get(); }
     const ElfImage& elf() const { return elf_; }
-    Cycles cycle() const;
+    Cycles cycle() const { return *cycle_; }
     const BoardDescription& board() const { return board_; }
     /// The pin-change groups restored where simavr's core lacks them (empty on the ATmega328P).
     std::vector<int> restored_pin_change_groups() const { return pin_change_->restored_groups(); }
@@ -80,8 +80,8 @@ public:
     uint32_t clock_hz() const { return board_.clock_hz; }
     double seconds() const { return cycles_to_s(cycle(), clock_hz()); }
     /// Program counter as a flash byte address.
-    uint32_t pc() const;
-    uint16_t stack_pointer() const;
+    uint32_t pc() const { return *pc_; }
+    uint16_t stack_pointer() const { return static_cast<uint16_t>(data_[spl_] | (data_[sph_] << 8)); }
     /// The return address a CALL or an interrupt pushed with its high byte at
     /// data address `first` (SP + 1 right after the push): mcu().pc_bytes
     /// bytes, high first, a word address; returned as a flash byte address.
@@ -172,6 +172,14 @@ private:
     ElfImage elf_;
     AvrCoreConfig config_;
     const BoardDescription& board_;
+    /// simavr's cycle counter, PC and data space, and the MCU's SPL and SPH:
+    /// cycle(), pc() and stack_pointer() run on every instruction of a
+    /// profiled run, so they read them in place (set once avr_ exists; simavr
+    /// never moves them).
+    const uint64_t* cycle_ = nullptr;
+    const uint32_t* pc_ = nullptr;
+    const uint8_t* data_ = nullptr;
+    uint16_t spl_ = 0, sph_ = 0;
     SimavrLog log_;
     /// Declared before avr_: simavr keeps pointers to its vectors until avr_ is freed.
     std::unique_ptr<PinChangeRestorer> pin_change_;

@@ -174,6 +174,27 @@ std::vector<int> wired_pins(const BoardWiring& board) {
     return {pins.begin(), pins.end()};
 }
 
+void check_host_serial_pins(const BoardWiring& board, const UsartDesc& usart) {
+    const BoardDescription& desc = board_description(board.model);
+    const std::string port = serial_port_name(usart.index);
+    const auto check = [&](int pin, int line, const std::string& key) {
+        for (const auto& [at, name] : {std::pair{usart.rxd, "RX"}, std::pair{usart.txd, "TX"}}) {
+            if (pin_number_of(desc, at) == pin) {
+                fail(board.source, line, key,
+                     fmt::format("pin {} carries {}'s {}; the host serial adapter is on {}", pin, port, name, port));
+            }
+        }
+    };
+    for (std::size_t m = 0; m < 2; ++m) {
+        for (const DriverRole r : kAllRoles) {
+            const InputWire& in = board.wheel[m].motor[r];
+            if (in.used && !in.tied_high) check(in.pin, in.line, motor_key(m, r));
+        }
+        const EncoderWiring& e = board.wheel[m].encoder;
+        for (unsigned s = 0; s < e.signals(); ++s) check(e.pin[s], e.line[s], encoder_key(e, m, s));
+    }
+}
+
 // --- the file ----------------------------------------------------------------
 
 namespace {

@@ -94,6 +94,12 @@ BoardWiring default_board();
 /// shared STBY/SLEEP excepted), a PWM input on a pin without a timer output.
 void validate(const BoardWiring& board);
 
+/// Throws std::invalid_argument "SOURCE:LINE: key 'K': pin 19 carries Serial1's
+/// RX; the host serial adapter is on Serial1" for a wiring pin on `usart`'s RXD
+/// or TXD (the host adapter on a USART other than the console's: validate()
+/// refuses the console's pins).
+void check_host_serial_pins(const BoardWiring& board, const UsartDesc& usart);
+
 /// Reads a board file. Throws std::runtime_error "FILE:LINE: key 'K': what
 /// is wrong" for malformed YAML, an unknown or missing key, an unknown driver
 /// or encoder type, a bad pin, or an invalid wiring (validate()).

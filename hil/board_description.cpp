@@ -115,7 +115,28 @@ std::optional<int> pin_number_of(const BoardDescription& board, PortBit at) {
     return std::nullopt;
 }
 
-char console_uart_name(const BoardDescription& board) { return static_cast<char>('0' + board.console().index); }
+char usart_irq_name(const UsartDesc& usart) { return static_cast<char>('0' + usart.index); }
+
+std::string serial_port_name(int usart_index) {
+    return usart_index == 0 ? std::string("Serial") : "Serial" + std::to_string(usart_index);
+}
+
+std::optional<int> parse_serial_port(const BoardDescription& board, const std::string& name) {
+    for (const UsartDesc& u : board.mcu->usarts) {
+        if (name == serial_port_name(u.index)) return u.index;
+    }
+    return std::nullopt;
+}
+
+std::string serial_port_list(const BoardDescription& board) {
+    std::string s;
+    const std::vector<UsartDesc>& all = board.mcu->usarts;
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        if (i > 0) s += i + 1 == all.size() ? " or " : ", ";
+        s += serial_port_name(all[i].index);
+    }
+    return s;
+}
 
 std::optional<PinInfo> board_pin(const BoardDescription& board, int number) {
     if (number < 0 || number >= board.pin_count()) return std::nullopt;

@@ -65,8 +65,14 @@ std::string board_key_list();
 
 /// The Arduino number of the pin at that port bit, if the board brings it out.
 std::optional<int> pin_number_of(const BoardDescription& board, PortBit at);
-/// The simavr name of the board's console USART: '0' for USART0.
-char console_uart_name(const BoardDescription& board);
+/// simavr's name of a USART (AVR_IOCTL_UART_GETIRQ): '0' for USART0.
+char usart_irq_name(const UsartDesc& usart);
+/// Arduino's name of USART n: "Serial" (0), "Serial1" (1), ...
+std::string serial_port_name(int usart_index);
+/// "Serial", "Serial1", ... -> the index of a USART the board's MCU has; nullopt otherwise.
+std::optional<int> parse_serial_port(const BoardDescription& board, const std::string& name);
+/// The board's serial ports for messages: "Serial" or "Serial, Serial1, Serial2 or Serial3".
+std::string serial_port_list(const BoardDescription& board);
 
 /// The pin's description, or nullopt when the board has no such digital pin.
 std::optional<PinInfo> board_pin(const BoardDescription& board, int number);

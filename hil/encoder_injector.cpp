@@ -51,11 +51,10 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
             // PCIFR flags written with 1, as the chip does.
             const auto pending_of = [&](int vector) {
                 avr_irq_t* irqs = avr_get_interrupt_irq(avr, static_cast<uint8_t>(vector));
+                // AvrCore declares every vector simavr's core lacks (PinChangeRestorer).
                 if (irqs == nullptr) {
-                    throw std::runtime_error(fmt::format(
-                        "encoder pin {}: its interrupt {} is not emulated by simavr 1.6's {} core; wire the "
-                        "encoder to an external-interrupt pin (INTn)",
-                        w.pin[s], core_.mcu().vector_name(vector), core_.mcu().label));
+                    throw std::logic_error(fmt::format("encoder pin {}: simavr's {} core declares no vector {}",
+                                                       w.pin[s], core_.mcu().label, core_.mcu().vector_name(vector)));
                 }
                 return irqs + AVR_INT_IRQ_PENDING;
             };

@@ -13,14 +13,12 @@ double adapter_bit_cycles(const AvrCore& core, uint32_t baud) {
 }
 }  // namespace
 
-HostAdapter::HostAdapter(AvrCore& core, uint32_t baud)
-    : core_(core), baud_(baud), line_(adapter_bit_cycles(core, baud)) {}
+HostAdapter::HostAdapter(AvrCore& core, const UsartDesc& usart, uint32_t baud)
+    : core_(core), usart_(usart), baud_(baud), line_(adapter_bit_cycles(core, baud)) {}
 
-double HostAdapter::firmware_bit_cycles() const {
-    return static_cast<double>(usart_cycles_per_bit(core_, core_.board().console()));
-}
+double HostAdapter::firmware_bit_cycles() const { return static_cast<double>(usart_cycles_per_bit(core_, usart_)); }
 
-bool HostAdapter::receiver_enabled() const { return usart_receiver_enabled(core_, core_.board().console()); }
+bool HostAdapter::receiver_enabled() const { return usart_receiver_enabled(core_, usart_); }
 
 void HostAdapter::on_firmware_byte(const UartByte& b, std::vector<LineByte>& out) {
     line_.push(static_cast<double>(b.cycle), b.value, firmware_bit_cycles(), out);

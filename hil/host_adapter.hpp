@@ -1,6 +1,6 @@
 #pragma once
-// HostAdapter: the host's USB-serial adapter on the firmware's USART0 at a
-// baud rate of its own, as on the bench: what the firmware sends is decoded
+// HostAdapter: the host's USB-serial adapter on one of the firmware's USARTs
+// (the UartLink's: USART0 = Serial, or Serial1..3 on a Mega) at a baud rate of its own, as on the bench: what the firmware sends is decoded
 // by the adapter's receiver at its rate (the firmware's frames at the
 // firmware's rate, from UBRR0/U2X0 when each byte left), and what the host
 // types becomes what the firmware's receiver makes of frames at the adapter's
@@ -23,8 +23,8 @@ namespace ddmr::hil {
 
 class HostAdapter {
 public:
-    /// `baud` > 0: the adapter's rate (8N1).
-    HostAdapter(AvrCore& core, uint32_t baud);
+    /// On `usart` (the UartLink's); `baud` > 0: the adapter's rate (8N1).
+    HostAdapter(AvrCore& core, const UsartDesc& usart, uint32_t baud);
 
     /// A byte the firmware wrote (UartLink's listener): the bytes the adapter
     /// has decoded so far are appended to `out`.
@@ -35,15 +35,16 @@ public:
     void flush(std::vector<LineByte>& out);
     /// What the firmware's receiver makes of `text` sent at the adapter's rate.
     std::string as_firmware_receives(const std::string& text) const;
-    /// The firmware's USART0 bit time now, from UBRR0 and U2X0 [cycles].
+    /// The firmware's bit time on the adapter's USART now, from UBRRn and U2Xn [cycles].
     double firmware_bit_cycles() const;
-    /// RXEN0: the firmware listens.
+    /// RXENn: the firmware listens.
     bool receiver_enabled() const;
     uint64_t framing_errors() const { return line_.framing_errors(); }
     uint32_t baud() const { return baud_; }
 
 private:
     AvrCore& core_;
+    const UsartDesc& usart_;
     uint32_t baud_;
     SerialLine line_;
 };

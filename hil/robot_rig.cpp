@@ -1,6 +1,8 @@
 #include "hil/robot_rig.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace ddmr::hil {
 namespace {
@@ -15,6 +17,20 @@ plant::RobotParams wired(plant::RobotParams p, const BoardWiring& board) {
     return p;
 }
 
+/// The USART the host's adapter is on: config.host_usart, else the board's console.
+const UsartDesc& host_usart(const AvrCore& core, const RigConfig& config) {
+    const BoardDescription& board = core.board();
+    if (!config.host_usart) return board.console();
+    const std::string port = serial_port_name(*config.host_usart);
+    if (!parse_serial_port(board, port)) {
+        throw std::invalid_argument("the host serial port " + port + " does not exist on the " + board.label + " (" +
+                                    board.mcu->label + "); its serial ports are " + serial_port_list(board));
+    }
+    const UsartDesc& usart = board.mcu->usarts[static_cast<std::size_t>(*config.host_usart)];
+    check_host_serial_pins(config.board, usart);
+    return usart;
+}
+
 /// The core's configuration on the board the wiring names (its MCU and clock).
 AvrCoreConfig core_on_board(const RigConfig& config) {
     AvrCoreConfig c = config.core;
@@ -27,7 +43,7 @@ AvrCoreConfig core_on_board(const RigConfig& config) {
 RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
     : config_(config),
       core_(elf, core_on_board(config)),
-      uart_(core_, config.uart_timing),
+      uart_(core_, host_usart(core_, config), config.uart_timing),
       eeprom_(core_),
       eeprom_timing_(core_, config.eeprom_timing),
       driver_(core_, config.board),

@@ -2,7 +2,7 @@
 // RobotRig: the Uno, the L298 shield and the robot wired together, the
 // "board" that connects the parts to one AvrCore:
 //
-//   UartLink          USART0 <-> host (case bytes in, report out)
+//   UartLink          the host's USART (Serial = USART0, or config.host_usart) <-> host (case bytes in, report out)
 //   EepromPort        EEPROM contents (preload, read back)
 //   EepromWriteTiming EEPE held for the datasheet write time (or simavr's instant writes)
 //   MotorDriverReader pin waveforms + driver truth tables => bridge state (pins per BoardWiring)
@@ -14,6 +14,7 @@
 // Construction validates the configuration (throws with the bad value).
 
 #include <memory>
+#include <optional>
 
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
@@ -37,6 +38,10 @@ struct RigConfig {
     EepromTimingMode eeprom_timing = EepromTimingMode::kDatasheet;
     UartTiming uart_timing = UartTiming::kChip;
     AvrCoreConfig core{};  ///< its `board` is replaced by board.model (the wiring names the board)
+    /// The USART the host's serial adapter is on (n of Serialn: 1 for Serial1
+    /// on a Mega); unset: the board's console (Serial). The MCU must have it,
+    /// and the wiring must not use its pins.
+    std::optional<int> host_usart;
 };
 
 class RobotRig {

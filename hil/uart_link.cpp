@@ -51,9 +51,11 @@ bool usart_receiver_enabled(const AvrCore& core, const UsartDesc& u) {
     return bit(core.data(u.ucsrb), atmega328p::uart_bit::kRxen0);
 }
 
-UartLink::UartLink(AvrCore& core, UartTiming timing) : core_(core), usart_(core.board().console()) {
+UartLink::UartLink(AvrCore& core, UartTiming timing) : UartLink(core, core.board().console(), timing) {}
+
+UartLink::UartLink(AvrCore& core, const UsartDesc& usart, UartTiming timing) : core_(core), usart_(usart) {
     avr_t* avr = core_.raw();
-    const char name = console_uart_name(core_.board());
+    const char name = usart_irq_name(usart_);
     uart_ = find_uart(avr, name);
     if (uart_ == nullptr) throw std::runtime_error(std::string("simavr core has no USART") + name);
     avr_irq_t* irqs = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(name), 0);

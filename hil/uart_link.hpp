@@ -1,8 +1,10 @@
 #pragma once
-// UartLink: the host end of the firmware's console USART (USART0 on the Uno:
-// Serial), like a USB-serial adapter.
+// UartLink: the host end of one of the firmware's USARTs, like a USB-serial
+// adapter: the board's console (USART0: Serial) by default, or another USART
+// of the MCU (USART1 = Serial1 on the Mega 2560, where a Bluetooth module
+// often sits).
 //
-// Signals (simavr UART IRQs of USART '0'):
+// Signals (simavr UART IRQs of that USART, '0' for USART0):
 //   in  UART_IRQ_OUTPUT    each byte the firmware writes to UDR0, captured with
 //                          the cycle of the write (the start of its frame);
 //   in  UART_IRQ_OUT_XON   the receive FIFO has room: queued bytes are sent;
@@ -50,7 +52,10 @@ bool usart_receiver_enabled(const AvrCore& core, const UsartDesc& u);
 
 class UartLink {
 public:
+    /// On the board's console USART (Serial).
     explicit UartLink(AvrCore& core, UartTiming timing = UartTiming::kChip);
+    /// On `usart`, one of core.mcu().usarts.
+    UartLink(AvrCore& core, const UsartDesc& usart, UartTiming timing);
     ~UartLink();
     UartLink(const UartLink&) = delete;
     UartLink& operator=(const UartLink&) = delete;
@@ -75,6 +80,8 @@ public:
     /// (inside the simulation: keep it short, do not throw).
     void set_listener(std::function<void(const UartByte&)> listener) { listener_ = std::move(listener); }
 
+    /// The USART the link is on.
+    const UsartDesc& usart() const { return usart_; }
     /// The frame time simavr is currently using [cycles per byte].
     Cycles cycles_per_byte() const;
     /// One bit time on the line as the registers set it (UBRR0, U2X0;
@@ -90,7 +97,7 @@ private:
     void apply_chip_timing();
 
     AvrCore& core_;
-    const UsartDesc& usart_;  ///< the board's console USART (USART0 on the Uno)
+    const UsartDesc& usart_;  ///< the USART the link is on (the console: USART0)
     avr_uart_t* uart_ = nullptr;
     avr_irq_t* input_irq_ = nullptr;
     bool xon_ = false;

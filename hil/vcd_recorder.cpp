@@ -46,10 +46,11 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         bool initial;
         VcdWriter::SignalId* id;
     };
-    // The console USART's pins (the Uno's D0 = RXD, D1 = TXD).
+    // The host link's USART pins (the Uno's D0 = RXD, D1 = TXD; Serial1 on a Mega: D19, D18).
     const BoardDescription& desc = core_.board();
-    const int rx_pin = pin_number_of(desc, desc.console().rxd).value_or(-1);
-    const int tx_pin = pin_number_of(desc, desc.console().txd).value_or(-1);
+    const UsartDesc& usart = rig_.uart().usart();
+    const int rx_pin = pin_number_of(desc, usart.rxd).value_or(-1);
+    const int tx_pin = pin_number_of(desc, usart.txd).value_or(-1);
     std::vector<PinSignal> pins = {{rx_pin, pin_name(rx_pin, "RX"), true, &rx_.signal},
                                    {tx_pin, pin_name(tx_pin, "TX"), true, &tx_.signal}};
     // Encoder outputs, then one signal per driver input pin (a pin shared
@@ -123,8 +124,8 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
 
     // Hooks. The rig's parts report through their listeners; simavr IRQs for the rest.
     for (IsrHook& h : isr_) avr_irq_register_notify(h.running, &VcdRecorder::on_isr, &h);
-    avr_irq_t* uart = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(console_uart_name(desc)), 0);
-    if (uart == nullptr) throw std::runtime_error("VcdRecorder: simavr's console USART has no IRQs");
+    avr_irq_t* uart = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ(usart_irq_name(usart)), 0);
+    if (uart == nullptr) throw std::runtime_error("VcdRecorder: simavr's USART" + std::to_string(usart.index) + " has no IRQs");
     tx_irq_ = uart + UART_IRQ_OUTPUT;
     rx_irq_ = uart + UART_IRQ_INPUT;
     avr_irq_register_notify(tx_irq_, &VcdRecorder::on_tx, this);

@@ -258,9 +258,20 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     if (o.plant_file) {
         c.plant = plant::load_robot_params(*o.plant_file);
     }
-    if (o.board_file) c.board = hil::load_board_file(*o.board_file);
+    if (o.board_file) {
+        c.board = hil::load_board_file(*o.board_file);
+        if (o.board_name && *o.board_name != c.board.model) {
+            throw std::invalid_argument(fmt::format("--board-name {}: the board file {} is for the {} (board: {})",
+                                                    hil::board_description(*o.board_name).key, c.board.source,
+                                                    hil::board_description(c.board.model).label,
+                                                    hil::board_description(c.board.model).key));
+        }
+    } else if (o.board_name) {
+        c.board.model = *o.board_name;  // the thesis robot's wiring on that board
+        c.board.source = fmt::format("built-in default board on the {}", hil::board_description(*o.board_name).key);
+        hil::validate(c.board);
+    }
     c.coupler.mode = o.pwm;
-    // PlantCoupler checks this too; here the message names the option.
     c.coupler.step_cycles = o.coupling_step_cycles;
     // PlantCoupler checks this too; here the message names the option and the board.
     const hil::BoardDescription& board = hil::board_description(c.board.model);
@@ -273,6 +284,12 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     }
     c.eeprom_timing = o.eeprom_timing;
     c.uart_timing = o.uart_timing;
+    const std::optional<int> port = hil::parse_serial_port(board, o.serial_port);
+    if (!port) {
+        throw std::invalid_argument(fmt::format("--serial-port {}: the {} ({}) has {}", o.serial_port, board.label,
+                                                board.mcu->label, hil::serial_port_list(board)));
+    }
+    c.host_usart = *port;
     return c;
 }
 
@@ -595,19 +612,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     }
     std::optional<hil::HostAdapter> adapter;
-    if (options.baud) adapter.emplace(core, *options.baud);
+    if (options.baud) adapter.emplace(core, rig.uart().usart(), *options.baud);
     std::vector<hil::LineByte> settled;
-    std::function<void(char)> host_byte_sink;  // on_host_byte, once it exists
-    rig.coupler().set_boundary_hook([&](Cycles cycle) {
-        if (adapter && host_byte_sink) {
-            settled.clear();
-            adapter->settle(cycle, settled);  // bytes whose stop bit the adapter has sampled
-            for (const auto& d : settled) host_byte_sink(static_cast<char>(d.value));
-        }
-        if (tracer) tracer->poll(cycle);
-        if (trace_tracer && options.trace_every_cycles == 0) trace_tracer->poll(cycle);
-        if (vcd) vcd->on_boundary(cycle);
-    });
 
     FirmwareRunResult result;
     // The ddmr-tracking report's EEPROM dump follows only case 1's report.
@@ -694,7 +700,16 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
         }
     };
-    host_byte_sink = on_host_byte;
+    rig.coupler().set_boundary_hook([&](Cycles cycle) {
+        if (adapter) {
+            settled.clear();
+            adapter->settle(cycle, settled);  // bytes whose stop bit the adapter has sampled
+            for (const auto& d : settled) on_host_byte(static_cast<char>(d.value));
+        }
+        if (tracer) tracer->poll(cycle);
+        if (trace_tracer && options.trace_every_cycles == 0) trace_tracer->poll(cycle);
+        if (vcd) vcd->on_boundary(cycle);
+    });
     std::vector<hil::LineByte> decoded;
     uart.set_listener([&](const hil::UartByte& b) {
         if (!adapter) {
@@ -933,6 +948,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
          {{"bytes", uart.bytes_received()},
           {"cycles_per_byte", uart.cycles_per_byte()},
           {"timing", options.uart_timing == hil::UartTiming::kChip ? "chip" : "simavr"},
+          {"port", hil::serial_port_name(uart.usart().index)},
           {"bytes_not_delivered", uart.pending()},
           {"adapter_baud", adapter ? json(adapter->baud()) : json(nullptr)},
           {"framing_errors", adapter ? json(adapter->framing_errors()) : json(nullptr)}}},

@@ -13,7 +13,7 @@
 //
 // Outputs in `out_dir`:
 //   uart.txt        every byte the firmware sent, verbatim
-//   eeprom.bin      the 1024 EEPROM bytes at the end
+//   eeprom.bin      the MCU's EEPROM at the end (1024 bytes on the ATmega328P, 4096 on the ATmega2560)
 //   truth.csv       the plant's ground truth at 1 kHz of AVR time, and its drive
 //   firmware.csv    the firmware's globals once per control-loop iteration
 //   eeprom_log.csv  the firmware's EEPROM log, decoded (sample, t_s, x_m, y_m)
@@ -59,7 +59,7 @@
 namespace ddmr::tools {
 
 struct FirmwareRunOptions {
-    std::filesystem::path firmware;       ///< ELF for the ATmega328P
+    std::filesystem::path firmware;       ///< ELF for the board's MCU
     /// The sketch contract (none: a time-limited run of any firmware).
     std::optional<std::filesystem::path> contract;
     int test_case = 1;                    ///< --case: the contract's {case} in its start text
@@ -88,6 +88,12 @@ struct FirmwareRunOptions {
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
     std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML
     std::optional<std::filesystem::path> board_file;  ///< board YAML (overrides the plant file's)
+    /// --board-name: the board (MCU, clock) of a run without a board file,
+    /// wired as the thesis robot; with a board file, its `board:` must agree.
+    std::optional<hil::BoardModel> board_name;
+    /// --serial-port: the USART the host's adapter is on, by Arduino name
+    /// ("Serial", "Serial1".."Serial3" on a Mega); the board must have it.
+    std::string serial_port = "Serial";
     plant::DriveMode pwm = plant::DriveMode::switched;
     hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
     /// Plant step [cycles] = max input latency; 0: 62.5 us of the board's clock (1000 cycles at 16 MHz).

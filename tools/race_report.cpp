@@ -68,7 +68,7 @@ std::string CodeNames::line(uint32_t pc) const {
     return it == lines.end() ? std::string() : it->second;
 }
 
-std::vector<uint32_t> race_report_pcs(const hil::RaceDetector& races, const hil::FunctionMap& /*functions*/) {
+std::vector<uint32_t> race_report_pcs(const hil::RaceDetector& races) {
     std::vector<uint32_t> pcs;
     for (const auto& a : races.splits()) pcs.push_back(a.pc);
     for (const auto& s : races.stale_reads()) {
@@ -76,6 +76,16 @@ std::vector<uint32_t> race_report_pcs(const hil::RaceDetector& races, const hil:
         pcs.push_back(s.where.loop_begin);
     }
     return pcs;
+}
+
+std::map<std::size_t, MainSiteCounts> main_site_counts(const hil::RaceDetector& races,
+                                                      const hil::FunctionMap& functions) {
+    std::map<std::size_t, MainSiteCounts> counts;
+    for (const auto& s : races.shared()) {
+        counts[s.object] = MainSiteCounts{races.main_sites(s.object, false, functions).size(),
+                                          races.main_sites(s.object, true, functions).size()};
+    }
+    return counts;
 }
 
 json races_json(const hil::RaceDetector& races, const CodeNames& names) {
@@ -86,9 +96,9 @@ json races_json(const hil::RaceDetector& races, const CodeNames& names) {
         json v = {{"variable", o.name}, {"address", o.address}, {"size", o.size},
                   {"isr_writers", vector_names(s.isr_writers, races.mcu())},
                   {"isr_readers", vector_names(s.isr_readers, races.mcu())}};
-        if (names.functions != nullptr) {
-            v["main_loads"] = races.main_sites(s.object, false, *names.functions).size();
-            v["main_stores"] = races.main_sites(s.object, true, *names.functions).size();
+        if (const auto it = names.main_sites.find(s.object); it != names.main_sites.end()) {
+            v["main_loads"] = it->second.loads;
+            v["main_stores"] = it->second.stores;
         }
         shared.push_back(v);
     }
@@ -183,9 +193,8 @@ std::string races_markdown(const hil::RaceDetector& races, const CodeNames& name
         for (const auto& s : shared) {
             const auto& o = objects[s.object];
             std::string sites = "-";
-            if (names.functions != nullptr) {
-                sites = fmt::format("{} / {}", races.main_sites(s.object, false, *names.functions).size(),
-                                    races.main_sites(s.object, true, *names.functions).size());
+            if (const auto it = names.main_sites.find(s.object); it != names.main_sites.end()) {
+                sites = fmt::format("{} / {}", it->second.loads, it->second.stores);
             }
             md += fmt::format("| `{}` | {} | {} | {} | {} |\n", o.name, o.size,
                               joined(vector_names(s.isr_writers, races.mcu())),
@@ -251,9 +260,9 @@ std::string races_markdown(const hil::RaceDetector& races, const CodeNames& name
 
 RaceReport race_report(const hil::RaceDetector& races, const hil::ElfImage& elf) {
     const hil::FunctionMap code_map(elf, races.mcu());
-    CodeNames names{&code_map, {}};
+    CodeNames names{&code_map, {}, main_site_counts(races, code_map)};
     try {
-        names.lines = source_lines(elf.path(), race_report_pcs(races, code_map));
+        names.lines = source_lines(elf.path(), race_report_pcs(races));
     } catch (const std::exception& e) {
         std::fprintf(stderr, "ddmr-hil: warning: no source lines in the race report: %s\n", e.what());
     }

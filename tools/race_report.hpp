@@ -15,17 +15,29 @@
 
 namespace ddmr::tools {
 
+/// The main program's direct loads (LDS) and stores (STS) of one shared variable.
+struct MainSiteCounts {
+    std::size_t loads = 0;
+    std::size_t stores = 0;
+};
+
 /// Names for flash addresses: the function (from the symbol table) and, when
-/// the ELF has line information, the source file:line.
+/// the ELF has line information, the source file:line; and the main
+/// program's accesses of each shared variable (found once, with the functions).
 struct CodeNames {
     const hil::FunctionMap* functions = nullptr;
     std::map<uint32_t, std::string> lines;  ///< from source_lines()
+    std::map<std::size_t, MainSiteCounts> main_sites;  ///< by DataObjects index; from main_site_counts()
     std::string function(uint32_t pc) const;
     std::string line(uint32_t pc) const;  ///< "" when unknown
 };
 
 /// Every flash address the report names (to resolve source lines in one go).
-std::vector<uint32_t> race_report_pcs(const hil::RaceDetector& races, const hil::FunctionMap& functions);
+std::vector<uint32_t> race_report_pcs(const hil::RaceDetector& races);
+
+/// The main program's LDS / STS of every shared variable (RaceDetector::main_sites).
+std::map<std::size_t, MainSiteCounts> main_site_counts(const hil::RaceDetector& races,
+                                                      const hil::FunctionMap& functions);
 
 /// isr.json's "races": shared variables, torn accesses, stale reads, counts.
 nlohmann::json races_json(const hil::RaceDetector& races, const CodeNames& names);

@@ -8,6 +8,7 @@
 
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "hil/board_description.hpp"
 #include "hil/plant_coupler.hpp"
 
 namespace ddmr::tools {
@@ -31,6 +32,7 @@ struct RunCli {
     std::vector<std::string> sends;  ///< --send TEXT@TIME
     std::string contract;            ///< --contract FILE
     uint32_t baud = 0;               ///< --baud N (0: none)
+    std::string board_name;          ///< --board-name KEY
     CLI::Option* case_option = nullptr;
     CLI::Option* ready_option = nullptr;
     CLI::Option* loop_mark_option = nullptr;
@@ -44,7 +46,8 @@ namespace {
 Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
     cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
     cli->options.profile = profile_always;
-    sub->add_option("--firmware", cli->options.firmware, "Firmware ELF for the ATmega328P")
+    sub->add_option("--firmware", cli->options.firmware,
+                    "Firmware ELF for the board's MCU (the ATmega328P on the default Uno)")
         ->capture_default_str();
     sub->add_option("--contract", cli->contract,
                     "Sketch contract (YAML, docs/contracts.md): how to start the firmware, when its run is "
@@ -85,7 +88,23 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->capture_default_str();
     sub->add_option("--plant", cli->plant_file,
                     "Plant parameter YAML (over the embedded defaults)");
-    sub->add_option("--board", cli->board_file, "Board file: the robot's wiring (drivers, encoders, pins; docs/boards.md); default: the thesis robot");
+    sub->add_option("--board", cli->board_file,
+                    "Board file: the board and the robot's wiring (drivers, encoders, pins; docs/boards.md); "
+                    "default: the thesis robot on an Uno");
+    sub->add_option("--board-name", cli->board_name,
+                    "Without --board: the board (its MCU and clock), wired as the thesis robot (right PWM 10 / "
+                    "DIR 12 / encoder 2, left 11 / 13 / 3): " + hil::board_key_list() +
+                        "; with --board, the file's board: must be this one")
+        ->check(CLI::IsMember([] {
+            std::vector<std::string> keys;
+            for (const hil::BoardModel m : hil::board_models()) keys.emplace_back(hil::board_description(m).key);
+            return keys;
+        }()));
+    sub->add_option("--serial-port", cli->options.serial_port,
+                    "The USART the host's serial adapter is on (the contract's start text, --send, the report, "
+                    "uart.txt): Serial (USART0, pins 0/1), or Serial1..Serial3 of a Mega 2560 (a Bluetooth "
+                    "module on Serial1)")
+        ->capture_default_str();
     sub->add_option("--pwm", cli->pwm,
                     "Enable-pin model: switched (the 490 Hz waveform, edge by edge) or averaged (duty)")
         ->check(CLI::IsMember({"switched", "averaged"}))
@@ -124,9 +143,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->option_text("PORT")
         ->check(CLI::Range(1, 65535));
     sub->add_option("--vcd", cli->vcd,
-                    "Write a value-change dump (GTKWave) of the run to FILE: Uno pins 0-3 and 10-13 (serial frames, "
-                    "encoder edges, synthesised PWM, direction), one signal per ISR, the loop-iteration count; "
-                    "time in ns of AVR time");
+                    "Write a value-change dump (GTKWave) of the run to FILE: the host serial port's RX/TX frames, "
+                    "the encoder and motor-driver pins (synthesised PWM, direction), one signal per ISR, the "
+                    "loop-iteration count; time in ns of AVR time");
     cli->loop_mark_option =
         sub->add_option("--loop-mark", cli->options.loop_mark,
                         "With --profile: the function each loop iteration calls once (its call ends the compute "
@@ -159,6 +178,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
         if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
         if (!cli->board_file.empty()) o.board_file = cli->board_file;
+        if (!cli->board_name.empty()) o.board_name = hil::parse_board_key(cli->board_name);
         if (!cli->vcd.empty()) o.vcd = cli->vcd;
         o.pwm = cli->pwm == "averaged" ? plant::DriveMode::averaged : plant::DriveMode::switched;
         o.eeprom_timing = cli->eeprom_timing == "instant" ? hil::EepromTimingMode::kInstant

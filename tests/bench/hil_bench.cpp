@@ -147,11 +147,12 @@ void run_case1(benchmark::State& state, bool profile, bool vcd) {
         ScratchDir dir;
         tools::FirmwareRunOptions o;
         o.firmware = DDMR_BENCH_FIRMWARE_ELF;
+        o.contract = DDMR_DEFAULT_CONTRACT;  // as `ddmr-hil run` does for the reference ELF
         o.out_dir = dir.path / "run";
         o.profile = profile;
         if (vcd) o.vcd = dir.path / "run.vcd";
         const tools::FirmwareRunResult r = tools::run_firmware(o);
-        if (r.exit != tools::RunExit::kReportComplete) state.SkipWithError("case 1 did not complete");
+        if (r.exit != tools::RunExit::kReportComplete) state.SkipWithError(("case 1 did not complete: " + r.message).c_str());
         cycles += r.cycles_total;
     }
     state.counters["Mcycles_per_s"] = benchmark::Counter(static_cast<double>(cycles) / 1e6,

@@ -8,16 +8,13 @@
 
 #include "hil/board.hpp"
 #include "hil/robot_rig.hpp"
+#include "support/example_rig.hpp"
 #include "support/test_paths.hpp"
 
 namespace ddmr::test {
 namespace {
 
-hil::RigConfig pro_mini_rig() {
-    hil::RigConfig c;
-    c.board = hil::load_board_file(source_dir() / "firmware/examples/pro_mini_8mhz_tb6612/board.yaml");
-    return c;
-}
+hil::RigConfig pro_mini_rig() { return example_rig("pro_mini_8mhz_tb6612"); }
 
 hil::ElfImage pro_mini_elf() { return hil::ElfImage::read(test_firmware_dir() / "pro_mini_8mhz_tb6612.elf"); }
 

@@ -180,8 +180,23 @@ TEST(BoardDescription, TheConsoleUsartIsOnPinsZeroAndOne) {
         const auto& b = board_description(m);
         EXPECT_EQ(hil::pin_number_of(b, b.console().rxd), 0) << b.key;
         EXPECT_EQ(hil::pin_number_of(b, b.console().txd), 1) << b.key;
-        EXPECT_EQ(hil::console_uart_name(b), '0') << b.key;
+        EXPECT_EQ(hil::usart_irq_name(b.console()), '0') << b.key;
     }
+}
+
+TEST(BoardDescription, SerialPortsAreTheMcusUsartsByArduinoName) {
+    const auto& uno = board_description(BoardModel::uno);
+    EXPECT_EQ(hil::parse_serial_port(uno, "Serial"), 0);
+    EXPECT_FALSE(hil::parse_serial_port(uno, "Serial1"));  // the ATmega328P has USART0 only
+    EXPECT_FALSE(hil::parse_serial_port(uno, "serial"));
+    EXPECT_EQ(hil::serial_port_list(uno), "Serial");
+    const auto& mega = board_description(BoardModel::mega2560);
+    EXPECT_EQ(hil::parse_serial_port(mega, "Serial1"), 1);
+    EXPECT_EQ(hil::parse_serial_port(mega, "Serial3"), 3);
+    EXPECT_FALSE(hil::parse_serial_port(mega, "Serial4"));
+    EXPECT_FALSE(hil::parse_serial_port(mega, "Serial0"));
+    EXPECT_EQ(hil::serial_port_list(mega), "Serial, Serial1, Serial2 or Serial3");
+    EXPECT_EQ(hil::usart_irq_name(mega.mcu->usarts[2]), '2');
 }
 
 }  // namespace

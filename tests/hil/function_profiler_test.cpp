@@ -52,28 +52,50 @@ Cycles self_sum(const hil::ProfileScope& scope) {
 //   __vectors self 3 (its JMP), __vector_1 self 10, calls 1, inclusive 18,
 //   leaf self +8, calls +1; 21 cycles of interrupt time, none of them charged
 //   to the interrupted function's inclusive.
-TEST(FunctionProfiler, FixtureHasHandCountedCyclesAndCalls) {
-    const auto elf = hil::ElfImage::read(test_firmware_dir() / "profile_fixture.elf");
-    hil::AvrCore core(elf);
+//
+// The same program for the ATmega2560 (22-bit PC, 3-byte return addresses:
+// CALL 5, RET 5, RETI 5; datasheet 2549Q, instruction set summary; INT0 on
+// PD0): __init adds ldi r16 / out EIND (8 x 1 + call 5 = 13); leaf 9,
+// middle 12 self, tailer 4, mark 7, __vector_1 12 self, main 3 x 5 + 2 = 17
+// self; a period of 17 + 12 + 9 + 4 + 9 + 7 = 58 and an interrupt of
+// 3 + 12 + 9 = 24 cycles.
+struct ProfileFixture {
+    const char* name;
+    const char* elf;
+    hil::BoardModel board;
+    int int0_bit;  ///< INT0 is PD2 on the ATmega328P, PD0 on the ATmega2560
+    Cycles init, leaf, middle, tailer, mark, vector, main;  ///< self cycles, as above
+};
+
+class FunctionProfilerFixture : public ::testing::TestWithParam<ProfileFixture> {};
+
+TEST_P(FunctionProfilerFixture, HasHandCountedCyclesAndCalls) {
+    const ProfileFixture& c = GetParam();
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / c.elf);
+    hil::AvrCoreConfig config;
+    config.board = c.board;
+    hil::AvrCore core(elf, config);
     FunctionProfiler prof(core);  // before the first instruction: the whole stack
     hil::LoopProfiler loop(core, elf.require("mark"));
     loop.set_iteration_listener([&](bool completed) { prof.on_loop_boundary(completed); });
     loop.arm();
     // INT0 edges every 997 cycles: they land in every function of the loop.
-    SquareWaveInput wave(core, 'D', 2, 997);
+    SquareWaveInput wave(core, 'D', c.int0_bit, 997);
     core.run_until(100'000);
 
+    const Cycles period = c.main + c.middle + c.leaf + c.tailer + c.leaf + c.mark;  // 50 on the Uno
+    const Cycles isr = 3 + c.vector + c.leaf;                                      // 21 on the Uno
     const auto& cl = prof.control_loop();
     const uint64_t n = cl.iterations;
     const uint64_t e = counts(prof, cl, "__vector_1").calls;
     ASSERT_EQ(n, loop.iterations().size());
-    ASSERT_GT(n, 1500u);  // 100,000 cycles / (50 + ISRs) per iteration
+    ASSERT_GT(n, 1500u);  // 100,000 cycles / (period + ISRs) per iteration
     ASSERT_GT(e, 90u);    // 100 edges, all but the first and last few inside iterations
     Cycles periods = 0;
     for (const auto& it : loop.iterations()) periods += it.period();
     EXPECT_EQ(cl.cycles, periods);
-    EXPECT_EQ(cl.cycles, 50 * n + 21 * e);
-    EXPECT_EQ(cl.interrupt_cycles, 21 * e);
+    EXPECT_EQ(cl.cycles, period * n + isr * e);
+    EXPECT_EQ(cl.interrupt_cycles, isr * e);
     EXPECT_EQ(self_sum(cl), cl.cycles);
 
     const auto check = [&](const char* name, uint64_t calls, Cycles self, Cycles inclusive) {
@@ -82,14 +104,14 @@ TEST(FunctionProfiler, FixtureHasHandCountedCyclesAndCalls) {
         EXPECT_EQ(f.self_cycles, self) << name;
         EXPECT_EQ(f.inclusive_cycles, inclusive) << name;
     };
-    check("main", 0, 14 * n, 50 * n);  // interrupts are not charged to main
-    check("middle", n, 10 * n, 18 * n);
-    check("tailer", n, 4 * n, 12 * n);
-    check("leaf", 2 * n + e, 16 * n + 8 * e, 16 * n + 8 * e);
-    check("mark", n, 6 * n, 6 * n);
-    check("__vector_1", e, 10 * e, 18 * e);
+    check("main", 0, c.main * n, period * n);  // interrupts are not charged to main
+    check("middle", n, c.middle * n, (c.middle + c.leaf) * n);
+    check("tailer", n, c.tailer * n, (c.tailer + c.leaf) * n);
+    check("leaf", 2 * n + e, (2 * n + e) * c.leaf, (2 * n + e) * c.leaf);
+    check("mark", n, c.mark * n, c.mark * n);
+    check("__vector_1", e, c.vector * e, (c.vector + c.leaf) * e);
     // The root frame: all non-interrupt cycles plus the vector JMPs.
-    check("__vectors", 0, 3 * e, 50 * n + 3 * e);
+    check("__vectors", 0, 3 * e, period * n + 3 * e);
 
     // Whole run: start-up code exactly; every cycle in exactly one function.
     const auto& all = prof.whole_run();
@@ -97,7 +119,7 @@ TEST(FunctionProfiler, FixtureHasHandCountedCyclesAndCalls) {
     EXPECT_EQ(self_sum(all), all.cycles);
     const FunctionCounts& init = counts(prof, all, "__init");
     EXPECT_EQ(init.calls, 1u);  // the reset vector's JMP
-    EXPECT_EQ(init.self_cycles, 10u);
+    EXPECT_EQ(init.self_cycles, c.init);
     EXPECT_EQ(counts(prof, all, "main").calls, 1u);
     const uint64_t e_all = counts(prof, all, "__vector_1").calls;
     EXPECT_EQ(e_all, wave.edges());
@@ -114,6 +136,13 @@ TEST(FunctionProfiler, FixtureHasHandCountedCyclesAndCalls) {
     EXPECT_EQ(prof.map().function(stack[1]).name, "__init");
     EXPECT_EQ(prof.map().function(stack[2]).name, "main");
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Mcus, FunctionProfilerFixture,
+    ::testing::Values(ProfileFixture{"atmega328p", "profile_fixture.elf", hil::BoardModel::uno, 2, 10, 8, 10, 4, 6, 10, 14},
+                      ProfileFixture{"atmega2560", "profile_fixture_atmega2560.elf", hil::BoardModel::mega2560, 0, 13,
+                                     9, 12, 4, 7, 12, 17}),
+    [](const ::testing::TestParamInfo<ProfileFixture>& p) { return std::string(p.param.name); });
 
 TEST(FunctionProfiler, BoundedStackOverflowsButKeepsSelfCyclesExact) {
     const auto elf = hil::ElfImage::read(test_firmware_dir() / "profile_fixture.elf");

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,17 +19,15 @@
 #include "hil/board.hpp"
 #include "hil/firmware_variables.hpp"
 #include "hil/eeprom_port.hpp"
+#include "hil/pin_waveforms.hpp"
 #include "hil/robot_rig.hpp"
+#include "support/example_rig.hpp"
 #include "support/test_paths.hpp"
 
 namespace ddmr::test {
 namespace {
 
-hil::RigConfig mega_rig() {
-    hil::RigConfig c;
-    c.board = hil::load_board_file(source_dir() / "firmware/examples/mega_l298n_int45/board.yaml");
-    return c;
-}
+hil::RigConfig mega_rig() { return example_rig("mega_l298n_int45"); }
 
 hil::ElfImage mega_elf() { return hil::ElfImage::read(test_firmware_dir() / "mega_l298n_int45.elf"); }
 
@@ -135,6 +135,84 @@ TEST(Mega2560, PinChangeGroupsOneAndTwoAreRestored) {
     EXPECT_EQ(vars.read_as<uint16_t>("pcint2_count"), 6);
     EXPECT_EQ(vars.read_as<uint16_t>("pcint1_count"), 5);
     EXPECT_EQ(vars.read_as<uint16_t>("pcint0_count"), 3);
+}
+
+hil::RigConfig thesis_wiring_on_mega(std::optional<int> host_usart) {
+    hil::RigConfig c;
+    c.board.model = hil::BoardModel::mega2560;  // the thesis robot's pins exist on the Mega
+    c.host_usart = host_usart;
+    return c;
+}
+
+// The host's adapter on Serial1: what it sends reaches USART1's receiver, what
+// USART1 transmits is what the link receives (USART0's text is not), and the
+// frame time is USART1's: UBRR1 = 103 with U2X1, (103 + 1) x 8 = 832 cycles a bit.
+TEST(Mega2560, TheHostAdapterOnSerial1TalksToUsart1) {
+    const hil::ElfImage elf = hil::ElfImage::read(test_firmware_dir() / "serial1_mega_fixture.elf");
+    hil::RobotRig rig(elf, thesis_wiring_on_mega(1));
+    EXPECT_EQ(rig.uart().usart().index, 1);
+    rig.uart().send("bt ok");
+    ASSERT_TRUE(run_to_text(rig, "BT OK", 0.05)) << rig.uart().text();
+    EXPECT_EQ(rig.uart().text(), "BT OK");
+    EXPECT_EQ(rig.uart().cycles_per_bit(), 832U);
+    EXPECT_EQ(rig.uart().cycles_per_byte(), 8320U);  // 8N1: 10 bits
+}
+
+TEST(Mega2560, TheHostAdapterIsOnSerialByDefault) {
+    const hil::ElfImage elf = hil::ElfImage::read(test_firmware_dir() / "serial1_mega_fixture.elf");
+    hil::RobotRig rig(elf, thesis_wiring_on_mega(std::nullopt));
+    EXPECT_EQ(rig.uart().usart().index, 0);
+    ASSERT_TRUE(run_to_text(rig, "usart0\r\n", 0.05)) << rig.uart().text();
+    EXPECT_EQ(rig.uart().cycles_per_bit(), 1664U);  // UBRR0 = 207, U2X0
+}
+
+TEST(Mega2560, AHostSerialPortTheBoardLacksOrTheWiringUsesIsRefused) {
+    hil::RigConfig uno;
+    uno.host_usart = 1;
+    try {
+        hil::RobotRig rig(hil::ElfImage::read(firmware_elf()), uno);
+        FAIL() << "Serial1 accepted on the Uno";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("Serial1 does not exist on the Arduino Uno"), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("its serial ports are Serial"), std::string::npos) << e.what();
+    }
+    hil::RigConfig mega = thesis_wiring_on_mega(1);
+    mega.board.wheel[1].encoder.pin[0] = 19;  // RXD1
+    try {
+        hil::RobotRig rig(hil::ElfImage::read(test_firmware_dir() / "serial1_mega_fixture.elf"), mega);
+        FAIL() << "an encoder on RXD1 accepted with the adapter on Serial1";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("key 'wheels.left.encoder.OUT': pin 19 carries Serial1's RX"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+// Channel C of Timers 3, 4 and 5 on the board's pins 3 (PE5), 8 (PH5) and 44
+// (PL5): phase correct 8-bit at clock/64, a period of 2 x 255 x 64 = 32,640
+// cycles, high for OCR/255 of it (pwm_c_mega_fixture.c).
+TEST(Mega2560, ChannelCPwmOnPins3And8And44) {
+    const hil::ElfImage elf = hil::ElfImage::read(test_firmware_dir() / "pwm_c_mega_fixture.elf");
+    hil::AvrCoreConfig config;
+    config.board = hil::BoardModel::mega2560;
+    hil::AvrCore core(elf, config);
+    hil::PinWaveforms pins(core, {3, 8, 44});
+    core.run_until(100'000);
+    pins.advance_to(core.cycle());
+    for (const auto& [pin, ocr] : {std::pair{3, 64}, std::pair{8, 128}, std::pair{44, 192}}) {
+        ASSERT_TRUE(pins.timer_driven(pin)) << pin;
+        EXPECT_NEAR(pins.duty(pin), ocr / 255.0, 1e-9) << pin;
+        // Two rising edges apart: one period; the high part between.
+        hil::Cycles t = core.cycle();
+        while (!pins.level_at(pin, t)) t = pins.next_change_after(pin, t);
+        t = pins.next_change_after(pin, t);  // falling
+        const hil::Cycles rise = pins.next_change_after(pin, t);
+        const hil::Cycles fall = pins.next_change_after(pin, rise);
+        const hil::Cycles next_rise = pins.next_change_after(pin, fall);
+        EXPECT_EQ(next_rise - rise, 32'640u) << pin;
+        EXPECT_EQ(fall - rise, static_cast<hil::Cycles>(ocr) * 2 * 64) << pin;
+    }
 }
 
 TEST(Mega2560, TheUnoNeedsNoRestoredGroups) {

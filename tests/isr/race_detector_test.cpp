@@ -40,9 +40,9 @@ hil::ElfImage isr_elf(const std::string& name) {
 }
 
 /// tests/firmware's fixtures (race_fixture.c).
-hil::ElfImage fixture_elf(const std::string& name) {
+hil::ElfImage fixture_elf(const std::string& name, const hil::McuDescription& mcu = hil::atmega328p_mcu()) {
     auto elf = hil::ElfImage::read(test_firmware_dir() / (name + ".elf"));
-    elf.require_mcu(hil::atmega328p_mcu());
+    elf.require_mcu(mcu);
     return elf;
 }
 
@@ -228,9 +228,12 @@ struct FixtureRun {
     uint8_t done = 0;
 };
 
-FixtureRun run_fixture(const std::string& variant) {
-    const auto elf = fixture_elf("race_fixture_" + variant);
-    hil::AvrCore core(elf);
+/// `elf_name`: race_fixture_racy / _fixed (ATmega328P), race_fixture_atmega2560 (racy).
+FixtureRun run_fixture(const std::string& elf_name, hil::BoardModel board = hil::BoardModel::uno) {
+    hil::AvrCoreConfig config;
+    config.board = board;
+    const auto elf = fixture_elf(elf_name, *hil::board_description(board).mcu);
+    hil::AvrCore core(elf, config);
     hil::RaceDetector detector(core, elf);
     core.run_until(kRunCycles);
     FixtureRun r;
@@ -247,9 +250,8 @@ FixtureRun run_fixture(const std::string& variant) {
     return r;
 }
 
-TEST(RaceDetector, FindsThePlantedTornReadTornWriteAndStaleRead) {
-    const FixtureRun r = run_fixture("racy");
-    const uint32_t t0 = 1U << kTimer0Ovf;
+/// The three races race_fixture.c plants, found; `t0`: TIMER0_OVF's vector bit.
+void expect_planted_races(const FixtureRun& r, hil::VectorMask t0) {
     // Shared variables, found by stepping the ISR: what TIMER0_OVF writes and reads.
     const std::string expect_shared = "ticks:" + std::to_string(t0) + ":" + std::to_string(t0);
     EXPECT_NE(r.names.find(expect_shared), std::string::npos) << r.names;
@@ -272,8 +274,20 @@ TEST(RaceDetector, FindsThePlantedTornReadTornWriteAndStaleRead) {
     EXPECT_EQ(r.done, 0);  // the firmware is stuck, as on the chip
 }
 
+TEST(RaceDetector, FindsThePlantedTornReadTornWriteAndStaleRead) {
+    expect_planted_races(run_fixture("race_fixture_racy"), hil::VectorMask{1} << kTimer0Ovf);
+}
+
+// The same program on the ATmega2560: 3-byte return addresses on the stack
+// (the resume point of each interrupt is read with them), TIMER0_OVF is
+// vector 23 (datasheet 2549Q, table 14-1).
+TEST(RaceDetector, FindsThePlantedRacesOnTheAtmega2560) {
+    ASSERT_STREQ(hil::atmega2560_mcu().vector_name(23).c_str(), "TIMER0_OVF");
+    expect_planted_races(run_fixture("race_fixture_atmega2560", hil::BoardModel::mega2560), hil::VectorMask{1} << 23);
+}
+
 TEST(RaceDetector, ReportsNothingForTheFixedFirmware) {
-    const FixtureRun r = run_fixture("fixed");
+    const FixtureRun r = run_fixture("race_fixture_fixed");
     EXPECT_EQ(r.done, 1);  // volatile flag: the loop saw the ISR's write and ended
     EXPECT_EQ(r.ticks_read.splits, 0u);
     EXPECT_EQ(r.setpoint_write.splits, 0u);

@@ -581,3 +581,55 @@ TEST(RunCommand, BaudPutsTheHostsAdapterOnTheLine) {
 
 }  // namespace
 }  // namespace ddmr::test
+
+namespace ddmr::test {
+namespace {
+
+TEST(RunCommand, BoardNameAndSerialPortPutTheAdapterOnAMegasSerial1) {
+    // serial1_mega_fixture echoes upper-cased on Serial1 at 19200 baud and
+    // prints "usart0" on Serial: with --serial-port Serial1 the host's adapter
+    // (at 19200) talks to USART1, and the thesis robot's wiring sits on the Mega.
+    TempDir dir;
+    const auto out = dir / "bt";
+    const auto r = run_command(cli() + " run -q --board-name mega2560 --serial-port Serial1 --baud 19200 --firmware " +
+                               sh_quote((test_firmware_dir() / "serial1_mega_fixture.elf").string()) +
+                               " --seconds 0.05 --send 'fwd\\n@5ms' --out " + sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_text(out / "uart.txt"), "FWD\n");
+    const json s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s["uart"]["port"], "Serial1");
+    EXPECT_EQ(s["uart"]["framing_errors"], 0);
+    EXPECT_EQ(s["uart"]["cycles_per_byte"], 8320);  // (103 + 1) x 8 x 10 bits
+    EXPECT_EQ(s["board"]["name"], "mega2560");
+    EXPECT_EQ(s["board"]["file"], "built-in default board on the mega2560");
+}
+
+TEST(RunCommand, ABoardNameOrSerialPortThatDoesNotFitIsRefused) {
+    TempDir dir;
+    const std::string mega_fw = " --firmware " + sh_quote((test_firmware_dir() / "serial1_mega_fixture.elf").string());
+    // The Uno has one USART.
+    auto r = run_command(cli() + " run -q --seconds 0.01 --serial-port Serial1 --firmware " +
+                         sh_quote((test_firmware_dir() / "echo_fixture.elf").string()) + " --out " +
+                         sh_quote((dir / "a").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--serial-port Serial1: the Arduino Uno (ATmega328P) has Serial"), std::string::npos) << r.err;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    // The board file says mega2560, --board-name says uno.
+    r = run_command(cli() + " run -q --seconds 0.01 --board-name uno --board " +
+                    sh_quote((source_dir() / "firmware/examples/mega_l298n_int45/board.yaml").string()) + mega_fw +
+                    " --out " + sh_quote((dir / "b").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--board-name uno: the board file"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("is for the Arduino Mega 2560 (board: mega2560)"), std::string::npos) << r.err;
+    // A Mega ELF on the default Uno.
+    r = run_command(cli() + " run -q --seconds 0.01" + mega_fw + " --out " + sh_quote((dir / "c").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("avr6"), std::string::npos) << r.err;
+    r = run_command(cli() + " run -q --seconds 0.01 --board-name leonardo" + mega_fw + " --out " +
+                    sh_quote((dir / "d").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    for (const char* d : {"a", "b", "c", "d"}) EXPECT_FALSE(fs::exists(dir / d)) << d;
+}
+
+}  // namespace
+}  // namespace ddmr::test

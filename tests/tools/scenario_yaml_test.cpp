@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "common/truth_csv.hpp"
 #include "hil/plant_coupler.hpp"
+#include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
 
 namespace ddmr::tools::scenario {
@@ -199,6 +202,8 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
         {"timeout: 1s\nplant: { overrides: { motor1: { resistance_ohm: -1 } } }\nsteps:\n  - delay: 1ms\n",
          "resistance_ohm"},
         {"timeout: 1s\nserial: { baud: 0 }\nsteps:\n  - delay: 1ms\n", "key 'serial.baud'"},
+        {"timeout: 1s\nserial: { port: Serial1 }\nsteps:\n  - delay: 1ms\n",
+         "case.yaml:2: key 'serial.port': 'Serial1' is not a serial port of the Arduino Uno (ATmega328P): Serial"},
         {"timeout: [1s\n", "malformed YAML"},
         {"timeout: 1s\nfirmware: { elf: a.elf, sketch: b/b.ino }\nsteps:\n  - delay: 1ms\n", "give one of elf"},
         {"timeout: 1s\nfirmware: { sketch: ../x/x.ino }\nsteps:\n  - delay: 1ms\n", "leaves the scenario's folder"},
@@ -289,6 +294,27 @@ TEST(ScenarioYaml, DurationsAndPinsAreTheBoards) {
     EXPECT_NE(m.find("PWM pins: 3, 5, 6, 9, 10 and 11"), std::string::npos) << m;
     EXPECT_NE(refusal("timeout: 1s\nsteps:\n  - expect-pin: { pin: 20, value: 1 }\n").find("[0, 19]"),
               std::string::npos);
+}
+
+TEST(ScenarioYaml, TheSerialPortIsOneOfTheBoardsUsarts) {
+    // A Mega robot with a Bluetooth module on Serial1: the adapter goes to USART1.
+    namespace fs = std::filesystem;
+    test::TempDir dir;
+    fs::copy_file(test::source_dir() / "firmware/examples/mega_l298n_int45/board.yaml", dir / "board.yaml");
+    const auto write = [&](const std::string& serial) {
+        std::ofstream(dir / "s.yaml") << "board: board.yaml\ntimeout: 1s\nserial: " << serial
+                                      << "\nsteps:\n  - delay: 1ms\n";
+        return dir / "s.yaml";
+    };
+    EXPECT_EQ(load_scenario(write("{ baud: 9600 }"), options()).serial_usart, 0);
+    EXPECT_EQ(load_scenario(write("{ port: Serial1 }"), options()).serial_usart, 1);
+    EXPECT_EQ(load_scenario(write("{ port: Serial3 }"), options()).serial_usart, 3);
+    try {
+        load_scenario(write("{ port: Serial4 }"), options());
+        FAIL() << "Serial4 accepted";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("Serial, Serial1, Serial2 or Serial3"), std::string::npos) << e.what();
+    }
 }
 
 TEST(ScenarioYaml, EveryShippedScenarioLoads) {

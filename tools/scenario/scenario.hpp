@@ -197,6 +197,7 @@ struct Scenario {
     uint64_t seed = 1;
     Cycles timeout = 0;                  ///< simulated-time limit of the whole scenario
     uint32_t baud = 9600;                ///< the host's serial adapter
+    int serial_usart = 0;                ///< `serial: {port: Serial1}`: the USART the adapter is on
     std::optional<std::filesystem::path> eeprom_preload;
     std::vector<Step> steps;
     /// True if a step needs the exact loop profiler (expect-loop): the run

@@ -100,8 +100,9 @@ public:
         config.board = s.board;
         config.coupler.mode = s.pwm;
         config.eeprom_timing = s.eeprom_timing;
+        config.host_usart = s.serial_usart;
         rig_.emplace(elf_, config);
-        adapter_.emplace(rig_->core(), s.baud);
+        adapter_.emplace(rig_->core(), rig_->uart().usart(), s.baud);
         if (preload_) rig_->eeprom().preload(*preload_);
         isr_.emplace(rig_->core(), elf_);
         stack_guard_.emplace(rig_->core(), elf_);

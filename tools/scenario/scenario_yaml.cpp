@@ -608,8 +608,19 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     }
     if (root["serial"]) {
         const Ctx c = top.at(root["serial"], "serial");
-        c.keys({"baud"});
+        c.keys({"baud", "port"});
         if (c.has("baud")) s.baud = static_cast<uint32_t>(c.child("baud").integer_in(300, 2000000));
+        if (c.has("port")) {
+            const Ctx p = c.child("port");
+            const std::string name = p.str();
+            const std::optional<int> usart = hil::parse_serial_port(board, name);
+            if (!usart) {
+                p.fail(fmt::format("'{}' is not a serial port of the {} ({}): {}", name, board.label, board.mcu->label,
+                                   hil::serial_port_list(board)));
+            }
+            s.serial_usart = *usart;
+            hil::check_host_serial_pins(s.board, board.mcu->usarts[static_cast<std::size_t>(*usart)]);
+        }
     }
     if (root["eeprom"]) s.eeprom_preload = existing_file(top.at(root["eeprom"], "eeprom"));
     // Plant: embedded defaults, or a file, then overrides; the seed feeds the encoders.
