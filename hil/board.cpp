@@ -64,7 +64,7 @@ std::string encoder_key(const EncoderWiring& e, std::size_t m, unsigned s) {
     return fmt::format("wheels.{}.encoder.{}", wheel_name(m), encoder_signal_key(e, s));
 }
 
-/// The console USART's pins (0 and 1) carry the serial line the host adapter talks through.
+/// The console USART's pins (0 and 1) carry Serial, the USB serial port.
 void check_pin(const BoardDescription& desc, const std::string& source, int line, const std::string& key, int pin) {
     if (!board_pin(desc, pin)) {
         fail(source, line, key, fmt::format("the {} has no pin {} (pins {})", desc.label, pin, pin_range(desc)));
@@ -72,7 +72,8 @@ void check_pin(const BoardDescription& desc, const std::string& source, int line
     for (const auto& [at, name] : {std::pair{desc.console().rxd, "RX"}, std::pair{desc.console().txd, "TX"}}) {
         if (pin_number_of(desc, at) == pin) {
             fail(source, line, key,
-                 fmt::format("pin {} carries the UART ({}); the host serial adapter needs it", pin, name));
+                 fmt::format("pin {} carries Serial's {} (pins 0 and 1, the USB serial port, cannot be wired)", pin,
+                             name));
         }
     }
 }

@@ -15,6 +15,8 @@
 
 #include <fmt/format.h>
 
+#include "hil/board_description.hpp"
+
 namespace ddmr::hil {
 
 std::string demangle(const std::string& name) {
@@ -225,9 +227,20 @@ void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) 
     }
     const uint32_t arch = flags_ & kEfAvrMachMask;
     if (arch != mcu.elf_arch) {
-        fail(path_, fmt::format("built for AVR architecture avr{}{}, but the {} is avr{}: build it for the {} "
+        // A supported board with that architecture is the likelier fix than a rebuild.
+        std::string boards;
+        for (const BoardModel m : board_models()) {
+            const BoardDescription& b = board_description(m);
+            if (b.mcu->elf_arch == arch) boards += std::string(boards.empty() ? "" : " or ") + b.key;
+        }
+        const std::string other_board =
+            boards.empty() ? std::string()
+                           : fmt::format("if it was built for the {}, give that board (board: KEY in the board file, "
+                                         "or run --board-name KEY); else ",
+                                         boards);
+        fail(path_, fmt::format("built for AVR architecture avr{}{}, but the {} is avr{}: {}build it for the {} "
                                 "(avr-gcc -mmcu={}, or the board's FQBN)",
-                                arch, arch_example(arch), on, mcu.elf_arch, chip, mcu.name));
+                                arch, arch_example(arch), on, mcu.elf_arch, other_board, chip, mcu.name));
     }
     if (mmcu_ && *mmcu_ != mcu.name) {
         fail(path_, fmt::format("its .mmcu section names MCU '{}', not {} ({})", *mmcu_, mcu.name, on));

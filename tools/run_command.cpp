@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
@@ -192,14 +195,16 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
                     r.wall_seconds > 0 ? static_cast<double>(r.cycles_total) / r.wall_seconds / 1e6 : 0.0);
         if (r.exit == RunExit::kTimeLimit) {
+            const std::string uart_txt =
+                o.baud ? fmt::format("uart.txt: what the adapter at {} baud decoded", *o.baud) : "all in uart.txt";
             std::printf("plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; encoder edges %llu / %llu (lost "
-                        "%llu / %llu); %llu UART bytes in uart.txt\n",
+                        "%llu / %llu); %llu bytes sent on %s (%s)\n",
                         r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
                         static_cast<unsigned long long>(r.encoder[0].edges_injected),
                         static_cast<unsigned long long>(r.encoder[1].edges_injected),
                         static_cast<unsigned long long>(r.encoder[0].lost_edges),
                         static_cast<unsigned long long>(r.encoder[1].lost_edges),
-                        static_cast<unsigned long long>(r.uart_bytes));
+                        static_cast<unsigned long long>(r.uart_bytes), o.serial_port.c_str(), uart_txt.c_str());
             if (!r.function_profile_top.empty()) {
                 std::printf("%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
             }

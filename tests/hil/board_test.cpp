@@ -141,7 +141,7 @@ TEST(Board, MistakesAreOneLineWithFileLineAndKey) {
     EXPECT_TRUE(contains(m, "key 'wheels.left.motor.IN1': the L298N input IN1 must be wired to a pin")) << m;
     // The UART pins.
     m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 1}\n    encoder: {type: single, OUT: 3}\n");
-    EXPECT_TRUE(contains(m, "pin 1 carries the UART")) << m;
+    EXPECT_TRUE(contains(m, "pin 1 carries Serial's TX (pins 0 and 1, the USB serial port, cannot be wired)")) << m;
     // Unknown encoder type, missing B.
     m = load_error(head + "  left:\n    motor: {driver: dir-pwm, PWM: 11, DIR: 13}\n    encoder: {type: optical, OUT: 3}\n");
     EXPECT_TRUE(contains(m, "b.yaml:5: key 'wheels.left.encoder.type': unknown encoder type 'optical'")) << m;

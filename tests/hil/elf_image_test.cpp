@@ -102,6 +102,11 @@ TEST(ElfImage, AMismatchNamesTheBoardAndTheElfsArchitecture) {
         const std::string m = e.what();
         EXPECT_NE(m.find("avr6 (e.g. the ATmega2560)"), std::string::npos) << m;
         EXPECT_NE(m.find("board 'uno' (ATmega328P) is avr5"), std::string::npos) << m;
+        // The board it was likely built for is named first.
+        EXPECT_NE(m.find("if it was built for the mega2560, give that board (board: KEY in the board file, or run "
+                         "--board-name KEY); else build it for the ATmega328P"),
+                  std::string::npos)
+            << m;
         EXPECT_EQ(m.find('\n'), std::string::npos) << m;  // one line
     }
 }

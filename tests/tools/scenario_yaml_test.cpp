@@ -202,6 +202,15 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
         {"timeout: 1s\nplant: { overrides: { motor1: { resistance_ohm: -1 } } }\nsteps:\n  - delay: 1ms\n",
          "resistance_ohm"},
         {"timeout: 1s\nserial: { baud: 0 }\nsteps:\n  - delay: 1ms\n", "key 'serial.baud'"},
+        {"timeout: 1s\nsteps:\n  - expect-pwm: { pin: 9, duty: 0.5 }\n",
+         "case.yaml:3: key 'expect-pwm.pin': pin 9 feeds no motor driver input of the board (built-in default board); "
+         "the driver inputs on timer pins are 10, 11"},
+        {"timeout: 1s\nsteps:\n  - expect-isr: { vector: BOGUS }\n",
+         "case.yaml:3: key 'expect-isr.vector': 'BOGUS' is not an interrupt of the ATmega328P (avr-libc's names "
+         "without _vect: INT0, INT1, PCINT0,"},
+        {"timeout: 1s\nsteps:\n  - expect-isr: { vector: USART0_RX }\n", "'USART0_RX' is not an interrupt of the ATmega328P"},
+        {"timeout: 1s\nsteps:\n  - expect-pin: { pin: D22, value: 1 }\n",
+         "key 'expect-pin.pin': 'D22' is not a pin of the Arduino Uno"},
         {"timeout: 1s\nserial: { port: Serial1 }\nsteps:\n  - delay: 1ms\n",
          "case.yaml:2: key 'serial.port': 'Serial1' is not a serial port of the Arduino Uno (ATmega328P): Serial"},
         {"timeout: [1s\n", "malformed YAML"},
@@ -315,6 +324,40 @@ TEST(ScenarioYaml, TheSerialPortIsOneOfTheBoardsUsarts) {
     } catch (const std::exception& e) {
         EXPECT_NE(std::string(e.what()).find("Serial, Serial1, Serial2 or Serial3"), std::string::npos) << e.what();
     }
+}
+
+TEST(ScenarioYaml, PinsVectorsAndPwmPinsAreTheMegas) {
+    namespace fs = std::filesystem;
+    test::TempDir dir;
+    fs::copy_file(test::source_dir() / "firmware/examples/mega_l298n_int45/board.yaml", dir / "board.yaml");
+    std::ofstream(dir / "s.yaml") << "board: board.yaml\ntimeout: 1s\nsteps:\n"
+                                     "  - expect-pin: { pin: D22, value: 1 }\n"
+                                     "  - expect-pin: { pin: A8, value: 0 }\n"
+                                     "  - expect-pin: { pin: 69, value: 0 }\n"
+                                     "  - expect-pwm: { pin: D5, duty: 0.7 }\n"
+                                     "  - expect-isr: { vector: USART1_RX }\n";
+    const Scenario s = load_scenario(dir / "s.yaml", options());
+    ASSERT_EQ(s.steps.size(), 5u);
+    EXPECT_EQ(std::get<ExpectPin>(s.steps[0].action).pin, 22);
+    EXPECT_EQ(std::get<ExpectPin>(s.steps[1].action).pin, 62);  // A8 = 54 + 8
+    EXPECT_EQ(std::get<ExpectPin>(s.steps[2].action).pin, 69);
+    EXPECT_EQ(std::get<ExpectPwm>(s.steps[3].action).pin, 5);
+    EXPECT_EQ(std::get<ExpectIsr>(s.steps[4].action).vector, "USART1_RX");
+    const auto refused = [&](const std::string& step) {
+        std::ofstream(dir / "bad.yaml") << "board: board.yaml\ntimeout: 1s\nsteps:\n  - " << step << "\n";
+        try {
+            load_scenario(dir / "bad.yaml", options());
+        } catch (const std::exception& e) {
+            return std::string(e.what());
+        }
+        return std::string("(accepted)");
+    };
+    EXPECT_NE(refused("expect-pwm: { pin: 44, duty: 0.5 }").find("pin 44 feeds no motor driver input of the board"),
+              std::string::npos);
+    EXPECT_NE(refused("expect-isr: { vector: USART_RX }").find("'USART_RX' is not an interrupt of the ATmega2560"),
+              std::string::npos);
+    EXPECT_NE(refused("expect-pin: { pin: A16, value: 1 }").find("'A16' is not a pin of the Arduino Mega 2560"),
+              std::string::npos);
 }
 
 TEST(ScenarioYaml, EveryShippedScenarioLoads) {

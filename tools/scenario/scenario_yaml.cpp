@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -143,12 +145,17 @@ namespace {
 /// The YAML node of one key with its location, for messages.
 class Ctx {
 public:
-    /// `board`: the scenario's board (its clock turns durations into cycles, its pins are the valid ones).
-    Ctx(const fs::path& file, const YAML::Node& node, std::string key, const hil::BoardDescription& board)
-        : file_(file), node_(node), key_(std::move(key)), board_(&board) {}
-    /// Another node of the same file and board.
-    Ctx at(const YAML::Node& node, std::string key) const { return Ctx(file_, node, std::move(key), *board_); }
+    /// `board`: the scenario's board (its clock turns durations into cycles, its pins are the valid ones);
+    /// `wiring`: the robot wired to it (its motor driver inputs), once known.
+    Ctx(const fs::path& file, const YAML::Node& node, std::string key, const hil::BoardDescription& board,
+        const hil::BoardWiring* wiring = nullptr)
+        : file_(file), node_(node), key_(std::move(key)), board_(&board), wiring_(wiring) {}
+    /// Another node of the same file, board and wiring.
+    Ctx at(const YAML::Node& node, std::string key) const {
+        return Ctx(file_, node, std::move(key), *board_, wiring_);
+    }
     const hil::BoardDescription& board() const { return *board_; }
+    const hil::BoardWiring* wiring() const { return wiring_; }
     [[noreturn]] void fail(const std::string& what) const {
         throw ScenarioError(fmt::format("{}:{}: key '{}': {}", file_.string(), line(), key_, what));
     }
@@ -229,6 +236,7 @@ private:
     YAML::Node node_;
     std::string key_;
     const hil::BoardDescription* board_;
+    const hil::BoardWiring* wiring_;
 };
 
 /// A path written in the scenario: relative, inside the scenario's folder.
@@ -254,13 +262,40 @@ fs::path existing_file(const Ctx& c) {
     return p;
 }
 
-/// A digital pin of the scenario's board, by number.
-int board_pin(const Ctx& c) { return c.integer_in(0, c.board().pin_count() - 1); }
+/// A digital pin of the scenario's board: its number, or its silkscreen name
+/// as a board file takes it ("D22", "A8").
+int board_pin(const Ctx& c) {
+    const std::string text = c.str();
+    if (!text.empty() && std::isdigit(static_cast<unsigned char>(text.front())) != 0) {
+        return c.integer_in(0, c.board().pin_count() - 1);
+    }
+    const std::optional<int> pin = hil::parse_pin_name(c.board(), text);
+    if (!pin) c.fail(fmt::format("'{}' is not a pin of the {} (pins {})", text, c.board().label, hil::pin_range(c.board())));
+    return *pin;
+}
 
+/// A timer-output pin that drives a motor driver input of the wiring.
 int pwm_pin(const Ctx& c) {
     const int pin = board_pin(c);
     if (!hil::board_pin(c.board(), pin)->oc) {
         c.fail(fmt::format("pin {} has no timer output (PWM pins: {})", pin, hil::pwm_pin_list(c.board())));
+    }
+    if (c.wiring() != nullptr) {
+        std::vector<int> inputs;  // the wiring's driver inputs on timer pins
+        for (const hil::WheelWiring& w : c.wiring()->wheel) {
+            for (const hil::InputWire& in : w.motor.input) {
+                if (in.used && !in.tied_high && hil::board_pin(c.board(), in.pin)->oc &&
+                    std::find(inputs.begin(), inputs.end(), in.pin) == inputs.end()) {
+                    inputs.push_back(in.pin);
+                }
+            }
+        }
+        if (std::find(inputs.begin(), inputs.end(), pin) == inputs.end()) {
+            std::sort(inputs.begin(), inputs.end());
+            c.fail(fmt::format("pin {} feeds no motor driver input of the board ({}); the driver inputs on timer "
+                               "pins are {}",
+                               pin, c.wiring()->source, fmt::join(inputs, ", ")));
+        }
     }
     return pin;
 }
@@ -428,6 +463,14 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
         c.keys({"vector", "max_latency_cycles", "max_duration_cycles", "min_count"}, {"vector"});
         ExpectIsr e;
         e.vector = c.child("vector").str();
+        const std::vector<const char*>& names = c.board().mcu->vector_names;
+        if (e.vector == "RESET" ||
+            std::find_if(names.begin(), names.end(), [&](const char* n) { return e.vector == n; }) == names.end()) {
+            c.child("vector").fail(fmt::format("'{}' is not an interrupt of the {} (avr-libc's names without _vect: "
+                                               "{})",
+                                               e.vector, c.board().mcu->label,
+                                               fmt::join(names.begin() + 1, names.end(), ", ")));
+        }
         if (c.has("max_latency_cycles")) e.max_latency_cycles = c.child("max_latency_cycles").count();
         if (c.has("max_duration_cycles")) e.max_duration_cycles = c.child("max_duration_cycles").count();
         if (c.has("min_count")) e.min_count = c.child("min_count").count();
@@ -560,7 +603,7 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         }
     }
     const hil::BoardDescription& board = hil::board_description(s.board.model);
-    const Ctx top(file, root, "(top)", board);
+    const Ctx top(file, root, "(top)", board, &s.board);
     top.keys({"name", "description", "version", "author", "firmware", "board", "plant", "pwm", "eeprom-timing",
               "seed", "timeout", "serial", "eeprom", "steps"},
              {"steps", "timeout"});
