@@ -169,9 +169,9 @@ RobotLog parse_robot_log(std::string_view text, const std::string& source) {
         throw std::runtime_error(fmt::format("{}:{}: the file ends before {} (after END)", source, end_line,
                                              stage == Stage::kCount1 ? "Count1" : "Count2"));
     }
-    if (log.samples.size() < 2) {
-        throw std::runtime_error(fmt::format("{}: the EEPROM dump has {} line(s) 'x , y' after END; at least 2 are "
-                                             "needed to calibrate",
+    if (log.samples.size() < 3) {
+        throw std::runtime_error(fmt::format("{}: the EEPROM dump has {} line(s) 'x , y' after END; at least 3 (2 "
+                                             "logged samples and the unwritten byte at addr) are needed to calibrate",
                                              source, log.samples.size()));
     }
     // The sketch dumps j = 0, 2, ..., addr: addr / 2 + 1 lines.
@@ -179,6 +179,9 @@ RobotLog parse_robot_log(std::string_view text, const std::string& source) {
         throw std::runtime_error(fmt::format("{}: addr {} promises {} dump lines, the file has {} (a cut log?)", source,
                                              *log.addr, *log.addr / 2 + 1, log.samples.size()));
     }
+    // The last line is the byte at addr, which the run did not write.
+    log.unwritten = log.samples.back();
+    log.samples.pop_back();
     return log;
 }
 

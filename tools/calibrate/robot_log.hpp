@@ -11,8 +11,10 @@
 //   ...                         an older build printed fewer)
 //   240                         addr: EEPROM bytes used per axis (optional)
 //   0.000 , 0.000               the EEPROM dump: EEPROM.read(j) / 250.0 and
-//   0.024 , 0.000               EEPROM.read(j + 500) / 250.0, 3 decimals, one
-//   ...                         line per logged sample              (required, >= 2)
+//   0.024 , 0.000               EEPROM.read(j + 500) / 250.0, 3 decimals, for
+//   ...                         j = 0, 2, ..., addr             (required, >= 3 lines)
+//   1.020 , 1.020               j = addr: a byte this run never wrote (erased,
+//                               or an earlier run's): not a sample
 //
 // Each dump value is an EEPROM byte b over 250 (0, 0.004, ..., 1.020): the
 // low 8 bits of int(E x 250), E the firmware's pose estimate [m]. The reader
@@ -48,7 +50,8 @@ struct RobotLog {
     /// Report values by key ("Gx", "Ex", "Thta", ...), when printed.
     std::map<std::string, double> fields;
     std::optional<uint64_t> addr;        ///< EEPROM bytes used per axis, when printed
-    std::vector<LoggedSample> samples;   ///< the dump, in order
+    std::vector<LoggedSample> samples;   ///< the dump's logged samples, in order (not its last line)
+    LoggedSample unwritten;              ///< the dump's last line (j = addr), kept for messages
 };
 
 /// Parses a serial dump. `source` names it in messages. Throws

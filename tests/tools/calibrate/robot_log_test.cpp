@@ -20,10 +20,11 @@ constexpr const char* kDump =
     "5659\r\n"
     "Gx,0.585,Gy,-0.112,t,12.000\r\n"
     "Ex,0.5343,Ey,-0.0218,Thta,7.8159\r\n"
-    "4\r\n"
+    "6\r\n"
     "0.000 , 0.000\r\n"
     "0.024 , 1.020\r\n"
-    "0.136 , 0.004\r\n";
+    "0.136 , 0.004\r\n"
+    "1.020 , 1.020\r\n";
 
 TEST(RobotLog, ReadsTheCountsTheReportAndTheBytes) {
     const RobotLog log = parse_robot_log(kDump, "robot.txt");
@@ -32,8 +33,10 @@ TEST(RobotLog, ReadsTheCountsTheReportAndTheBytes) {
     EXPECT_EQ(log.count2, 5659u);
     EXPECT_DOUBLE_EQ(log.fields.at("Gy"), -0.112);
     EXPECT_DOUBLE_EQ(log.fields.at("Thta"), 7.8159);
-    EXPECT_EQ(log.addr, 4u);
-    ASSERT_EQ(log.samples.size(), 3u);
+    EXPECT_EQ(log.addr, 6u);
+    ASSERT_EQ(log.samples.size(), 3u);  // the fourth line is the unwritten byte at addr
+    EXPECT_EQ(log.unwritten.x_byte, 255);
+    EXPECT_EQ(log.unwritten.line, 12);
     EXPECT_EQ(log.samples[1].x_byte, 6);    // 0.024 x 250
     EXPECT_EQ(log.samples[1].y_byte, 255);  // 1.020 x 250
     EXPECT_EQ(log.samples[2].x_byte, 34);
@@ -43,7 +46,7 @@ TEST(RobotLog, ReadsTheCountsTheReportAndTheBytes) {
 
 TEST(RobotLog, AnOlderBuildsShortReportIsEnough) {
     // No banner, no report lines, no addr: END, the totals and the dump.
-    const RobotLog log = parse_robot_log("END\n12\n34\n0.000 , 0.000\n0.004 , 0.008\n", "old.txt");
+    const RobotLog log = parse_robot_log("END\n12\n34\n0.000 , 0.000\n0.004 , 0.008\n0.500 , 0.500\n", "old.txt");
     EXPECT_FALSE(log.case_number);
     EXPECT_EQ(log.count1, 12u);
     EXPECT_EQ(log.count2, 34u);
@@ -67,14 +70,15 @@ TEST(RobotLog, RefusesWhatIsNotOneRunsDump) {
                                         "Count1, Count2, then the EEPROM dump)");
     EXPECT_EQ(refusal("END\nabc\n"), "r.txt:2: expected Count1 (a whole number of encoder edges) after END, got 'abc'");
     EXPECT_EQ(refusal("END\n5\n"), "r.txt:1: the file ends before Count2 (after END)");
-    EXPECT_EQ(refusal("END\n5\n6\n0.000 , 0.000\n"),
-              "r.txt: the EEPROM dump has 1 line(s) 'x , y' after END; at least 2 are needed to calibrate");
+    EXPECT_EQ(refusal("END\n5\n6\n0.000 , 0.000\n0.000 , 0.000\n"),
+              "r.txt: the EEPROM dump has 2 line(s) 'x , y' after END; at least 3 (2 logged samples and the "
+              "unwritten byte at addr) are needed to calibrate");
     EXPECT_EQ(refusal("END\n5\n6\n0.000 , 0.001\n0.000 , 0.000\n"),
               "r.txt:4: '0.000 , 0.001': 0.001 is not an EEPROM byte over 250 (0, 0.004, ..., 1.020)");
     EXPECT_EQ(refusal("END\n5\n6\n1.024 , 0.000\n0.000 , 0.000\n"),
               "r.txt:4: '1.024 , 0.000': 1.024 is not an EEPROM byte over 250 (0, 0.004, ..., 1.020)");
-    EXPECT_EQ(refusal("END\n5\n6\n10\n0.000 , 0.000\n0.000 , 0.000\n"),
-              "r.txt: addr 10 promises 6 dump lines, the file has 2 (a cut log?)");
+    EXPECT_EQ(refusal("END\n5\n6\n10\n0.000 , 0.000\n0.000 , 0.000\n0.000 , 0.000\n"),
+              "r.txt: addr 10 promises 6 dump lines, the file has 3 (a cut log?)");
     EXPECT_EQ(refusal("END\n5\n6\n0.000 , 0.000\n0.000 , 0.000\nEND\n"),
               "r.txt:6: a second END (the first is on line 1): the file holds more than one run; give each run its "
               "own file");
@@ -105,7 +109,7 @@ TEST(RobotLog, TheReferenceFirmwaresDumpGivesBackItsEepromBytes) {
     EXPECT_EQ(static_cast<double>(log.count1), run.report.count1.value());
     EXPECT_EQ(static_cast<double>(log.count2), run.report.count2.value());
     ASSERT_TRUE(log.addr.has_value());
-    ASSERT_EQ(log.samples.size(), static_cast<std::size_t>(*log.addr / 2 + 1));
+    ASSERT_EQ(log.samples.size(), static_cast<std::size_t>(*log.addr / 2));  // the last dump line is not a sample
     ASSERT_GT(log.samples.size(), 100u);
     for (std::size_t k = 0; k < log.samples.size(); ++k) {
         EXPECT_EQ(log.samples[k].x_byte, run.eeprom.at(2 * k)) << k;
