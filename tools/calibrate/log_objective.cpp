@@ -30,6 +30,26 @@ double metres_per_edge(const plant::RobotParams& p, std::size_t m) {
 /// stopped, or fewer samples were logged than the log has).
 constexpr double kMissingSampleDistance_m = 10.0;
 
+/// The simulation of `run` on `params` with the encoders at `phase`.
+hs::SimResult simulate_at_phase(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config,
+                                double phase) {
+    hs::SimConfig c = config.base;
+    c.model = hs::Model::ideal;  // every firmware switch but eeprom_bytes: the unquantised pose is logged
+    c.fidelity = hs::Fidelity::all();
+    c.fidelity.set(hs::FidelitySwitch::eeprom_bytes, false);
+    // Long enough for every logged sample: one every 10 iterations of the
+    // sketch's dt = 0.01 s on the controller's clock (duration_s's clock).
+    c.duration_s = std::max(c.duration_s, 0.1 * static_cast<double>(run.log.samples.size()));
+    c.plant = params;
+    c.plant.encoder[0].initial_phase = phase;
+    c.plant.encoder[1].initial_phase = phase;
+    return hs::simulate(c);
+}
+
+bool totals_count(const LogRun& run, const ObjectiveConfig& config) {
+    return range_end(run) == run.log.samples.size() && config.count_weight > 0.0;
+}
+
 }  // namespace
 
 void validate(const LogRun& run, const ObjectiveConfig& config) {
@@ -44,6 +64,28 @@ void validate(const LogRun& run, const ObjectiveConfig& config) {
     }
     if (!(config.loss_scale_m > 0.0)) throw std::invalid_argument("the loss scale must be > 0 m");
     if (!(config.count_weight >= 0.0)) throw std::invalid_argument("the count weight must be >= 0");
+}
+
+std::vector<double> predicted_log(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config) {
+    validate(run, config);
+    const std::size_t end = range_end(run);
+    const std::size_t counted = end - run.first;
+    const bool totals = totals_count(run, config);
+    std::vector<double> out(2 * counted + (totals ? 2 : 0), 0.0);
+    const double phases = static_cast<double>(config.encoder_phases.size());
+    for (const double phase : config.encoder_phases) {
+        const hs::SimResult r = simulate_at_phase(params, run, config, phase);
+        for (std::size_t k = run.first; k < end; ++k) {
+            const bool have = k < r.eeprom_log.size();
+            out[2 * (k - run.first)] += (have ? r.eeprom_log[k].x_m : kMissingSampleDistance_m) / phases;
+            out[2 * (k - run.first) + 1] += (have ? r.eeprom_log[k].y_m : kMissingSampleDistance_m) / phases;
+        }
+        if (totals) {
+            out[2 * counted] += static_cast<double>(r.samples.back().edges1) * metres_per_edge(config.base.plant, 0) / phases;
+            out[2 * counted + 1] += static_cast<double>(r.samples.back().edges2) * metres_per_edge(config.base.plant, 1) / phases;
+        }
+    }
+    return out;
 }
 
 std::vector<std::pair<double, double>> logged_positions(const RobotLog& log) {
@@ -63,26 +105,14 @@ std::vector<std::pair<double, double>> logged_positions(const RobotLog& log) {
 Evaluation evaluate(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config) {
     validate(run, config);
     const std::size_t end = range_end(run);
-    const bool totals_count = end == run.log.samples.size() && config.count_weight > 0.0;
     const std::size_t counted = end - run.first;
     const auto logged = logged_positions(run.log);
     const double end_norm = std::hypot(logged[end - 1].first, logged[end - 1].second);
 
-    hs::SimConfig c = config.base;
-    c.model = hs::Model::ideal;  // every firmware switch but eeprom_bytes: the unquantised pose is logged
-    c.fidelity = hs::Fidelity::all();
-    c.fidelity.set(hs::FidelitySwitch::eeprom_bytes, false);
-    // Long enough for every logged sample: one every 10 iterations of the
-    // sketch's dt = 0.01 s on the controller's clock (duration_s's clock).
-    c.duration_s = std::max(c.duration_s, 0.1 * static_cast<double>(run.log.samples.size()));
-
     Evaluation ev;
     const double phases = static_cast<double>(config.encoder_phases.size());
     for (const double phase : config.encoder_phases) {
-        c.plant = params;
-        c.plant.encoder[0].initial_phase = phase;
-        c.plant.encoder[1].initial_phase = phase;
-        const hs::SimResult r = hs::simulate(c);
+        const hs::SimResult r = simulate_at_phase(params, run, config, phase);
         if (r.status != plant::StepStatus::ok) ev.plant_failed = true;
 
         double loss = 0.0;
@@ -104,9 +134,9 @@ Evaluation evaluate(const plant::RobotParams& params, const LogRun& run, const O
         }
         double terms = 2.0 * static_cast<double>(counted);
         const hs::SimSample& last = r.samples.back();
-        if (totals_count) {
-            const double e1 = (static_cast<double>(last.edges1) - static_cast<double>(run.log.count1)) * metres_per_edge(params, 0);
-            const double e2 = (static_cast<double>(last.edges2) - static_cast<double>(run.log.count2)) * metres_per_edge(params, 1);
+        if (totals_count(run, config)) {
+            const double e1 = (static_cast<double>(last.edges1) - static_cast<double>(run.log.count1)) * metres_per_edge(config.base.plant, 0);
+            const double e2 = (static_cast<double>(last.edges2) - static_cast<double>(run.log.count2)) * metres_per_edge(config.base.plant, 1);
             loss += config.count_weight * (soft_l1(e1, config.loss_scale_m) + soft_l1(e2, config.loss_scale_m));
             terms += 2.0 * config.count_weight;
         }

@@ -6,7 +6,8 @@
 // each logged sample is compared with the controller's pose the simulation
 // logs at the same iteration, as the distance to the sample's cell
 // (log_residual.hpp). The encoder totals (Count1, Count2) are compared at
-// the run's end, in metres of wheel travel.
+// the run's end, in metres of wheel travel of the base plant (a fixed scale:
+// a candidate's wheel radius does not change what a count is worth here).
 //
 // The encoders' magnets sit at an unknown angle when the robot starts: the
 // simulation is run once per initial phase in `encoder_phases` and the loss
@@ -70,6 +71,12 @@ void validate(const LogRun& run, const ObjectiveConfig& config);
 
 /// Evaluates `params` against `run`. Deterministic.
 Evaluation evaluate(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config);
+
+/// The simulation's counterpart of the counted log, averaged over the
+/// encoder phases: x then y [m] of each counted sample's controller pose
+/// (unquantised), then, when the totals count, the two encoder totals in
+/// metres of wheel travel. What the identifiability analysis differentiates.
+std::vector<double> predicted_log(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config);
 
 /// The logged position of sample k [m]: the bytes unwrapped from sample 0
 /// (hil::unwrap_counts) over 250.
