@@ -77,6 +77,8 @@ bench: build
 	    --benchmark_out_format=json --ratio_out=$(BUILD)/bench/hil_ratio.json
 	./$(BUILD)/tests/bench/ddmr_sim_bench --benchmark_out=$(BUILD)/bench/sim.json \
 	    --benchmark_out_format=json
+	./$(BUILD)/tests/bench/ddmr_calibrate_bench --benchmark_out=$(BUILD)/bench/calibrate.json \
+	    --benchmark_out_format=json
 	/usr/bin/python3 tools/bench_table.py $(BUILD)/bench
 
 # Static checks of the project's own code (plant/, hil/, tools/), part of

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Collects `make bench`'s Google Benchmark results into one table.
 
-Reads BENCH_DIR/{hil,sim,plant}.json (written by ddmr_hil_bench, ddmr_sim_bench
-and ddmr_plant_bench), writes BENCH_DIR/results.json and prints a table: per
+Reads BENCH_DIR/{hil,sim,plant,calibrate}.json (written by ddmr_hil_bench,
+ddmr_sim_bench, ddmr_plant_bench and ddmr_calibrate_bench), writes BENCH_DIR/results.json and prints a table: per
 benchmark the median and the spread (min..max over the repetitions) of its
 figure, then the ratios against the goals of issues 4, 6, 7 and 8. The
 machine is shared and noisy: the ratios of figures measured in the same run
@@ -37,7 +37,7 @@ def load(path):
         entry["values"].append(value)
         scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
         entry["times"].append(b["real_time"] * scale)
-        for k in ("peak_rss_MiB", "sim_minutes"):
+        for k in ("peak_rss_MiB", "sim_minutes", "worst_rel_error", "rms_mm", "evaluations"):
             if k in b:
                 entry["counters"][k] = max(entry["counters"].get(k, 0.0), b[k])
     return out
@@ -46,7 +46,7 @@ def load(path):
 def main():
     bench = Path(sys.argv[1] if len(sys.argv) > 1 else "build/bench")
     runs = {}
-    for f in ("hil.json", "sim.json", "plant.json"):
+    for f in ("hil.json", "sim.json", "plant.json", "calibrate.json"):
         runs.update(load(bench / f))
     rows = {}
     for name, e in runs.items():
@@ -109,6 +109,15 @@ def main():
         goal("16 case-1 runs: 2 workers / 1 worker", j2 / j1, ">= 1.8", j2 / j1 >= 1.8)
     if suite is not None:
         goal("shipped scenario suite, wall seconds", suite, "< 120 s", suite < 120.0)
+    # Issue 18: five parameters on two logs, under 2 minutes, and converged.
+    for args in ("0/300", "150/150"):
+        name = find(f"BM_Calibrate5Params2Logs/{args}/")
+        if name:
+            r = rows[name]
+            goal(f"calibration of 5 parameters on 2 logs (budgets {args}), wall seconds", r["median_wall_s"], "< 120 s",
+                 r["median_wall_s"] < 120.0)
+            goal(f"calibration (budgets {args}): worst relative error of the 5 values", r.get("worst_rel_error", 1.0),
+                 "< 0.05", r.get("worst_rel_error", 1.0) < 0.05)
     if long1 and long10:
         a, b = rows[long1], rows[long10]
         goal("10-min / 1-min simulated run: Mcycles/s", b["median"] / a["median"], "~1 (linear cost)", b["median"] / a["median"] >= 0.9)
