@@ -1,5 +1,6 @@
 // Issue 18's speed goal: a calibration of five plant parameters on two logs
-// finishes in under 2 minutes on 2 cores. The logs are made first (not
+// finishes in under 2 minutes on 2 cores (the fit evaluates in one thread
+// today). The logs are made first (not
 // timed): the HIL with the real firmware on a perturbed robot (motor
 // resistances +12 % / -8 %, back-EMF constants +10 % / +5 %, L298 drop
 // 1.6 V), case 1, its encoders at two initial phases. The fit starts from

@@ -79,7 +79,7 @@ FitResult fit(const std::vector<FitParam>& params, const std::function<double(co
     if (options.global_evaluations < 0 || options.local_evaluations < 1) {
         throw std::invalid_argument("calibrate: the global budget must be >= 0 and the local one >= 1");
     }
-    Problem pr{&params, &loss, &options};
+    Problem pr{&params, &loss, &options, 0, std::numeric_limits<double>::infinity(), {}};
     std::vector<double> z0(params.size());
     for (std::size_t i = 0; i < params.size(); ++i) z0[i] = (params[i].start - params[i].lo) / (params[i].hi - params[i].lo);
 

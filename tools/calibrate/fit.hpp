@@ -1,5 +1,6 @@
 #pragma once
-// The optimiser of `ddmr-hil calibrate` (issue 18): bounded, derivative-free
+// The optimiser for calibrating the plant from a robot's logs (issue 18;
+// the `ddmr-hil calibrate` command is being built on it): bounded, derivative-free
 // minimisation of a loss over a few plant parameters with NLopt (Debian's
 // libnlopt-cxx-dev): a seeded global stage, CRS2 with local mutation
 // (NLOPT_GN_CRS2_LM: a population over the whole box), then a local polish

@@ -15,6 +15,10 @@ constexpr double kMaxIntervalFactor = 2.0;
 /// The change used to say "the log does not depend on it" [relative].
 constexpr double kProbeChange = 0.10;
 constexpr double kZ95 = 1.959963984540054;
+/// A singular value below this fraction of the largest is a direction the log does not see.
+constexpr double kNullRatio = 1e-6;
+/// A parameter whose weight in such a direction exceeds this is not identifiable.
+constexpr double kNullWeight = 0.1;
 
 }  // namespace
 
@@ -62,16 +66,30 @@ Identifiability analyse_identifiability(const std::function<std::vector<double>(
     const auto m = static_cast<Eigen::Index>(seen.size());
     Eigen::MatrixXd sub(scaled.rows(), m);
     for (Eigen::Index k = 0; k < m; ++k) sub.col(k) = scaled.col(seen[static_cast<std::size_t>(k)]);
-    const Eigen::MatrixXd fisher = sub.transpose() * sub;
-    const Eigen::JacobiSVD<Eigen::MatrixXd> sub_svd(sub);
-    const bool invertible = m > 0 && sub_svd.singularValues()(m - 1) > 1e-9 * sub_svd.singularValues()(0);
-    const Eigen::MatrixXd sub_cov = invertible ? Eigen::MatrixXd(fisher.inverse()) : Eigen::MatrixXd();
-    // Full-size covariance and correlation (NaN where a parameter is not seen or F is singular).
+    // The covariance of ln(theta) over the seen parameters from the SVD of
+    // sub = U diag(s) V^T: F = V diag(s^2) V^T, C = V diag(1 / s^2) V^T over
+    // the directions the log sees (s_k > kNullRatio s_0). A direction below
+    // that (or missing: fewer log values than parameters) is one the log
+    // cannot see; a parameter with weight in it is not identifiable.
+    Eigen::MatrixXd v;
+    Eigen::VectorXd sv;
+    if (m > 0) {
+        const Eigen::JacobiSVD<Eigen::MatrixXd> sub_svd(sub, Eigen::ComputeFullV);
+        v = sub_svd.matrixV();
+        sv = Eigen::VectorXd::Zero(m);
+        sv.head(sub_svd.singularValues().size()) = sub_svd.singularValues();
+    }
+    std::vector<bool> null_direction(static_cast<std::size_t>(m), false);
+    for (Eigen::Index k = 0; k < m; ++k) null_direction[static_cast<std::size_t>(k)] = !(sv(k) > kNullRatio * sv(0));
     const double nan = std::numeric_limits<double>::quiet_NaN();
     Eigen::MatrixXd cov = Eigen::MatrixXd::Constant(n, n, nan);
-    if (invertible) {
-        for (Eigen::Index a = 0; a < m; ++a) {
-            for (Eigen::Index b = 0; b < m; ++b) cov(seen[static_cast<std::size_t>(a)], seen[static_cast<std::size_t>(b)]) = sub_cov(a, b);
+    for (Eigen::Index a = 0; a < m; ++a) {
+        for (Eigen::Index b = 0; b < m; ++b) {
+            double c = 0.0;
+            for (Eigen::Index k = 0; k < m; ++k) {
+                if (!null_direction[static_cast<std::size_t>(k)]) c += v(a, k) * v(b, k) / (sv(k) * sv(k));
+            }
+            cov(seen[static_cast<std::size_t>(a)], seen[static_cast<std::size_t>(b)]) = c;
         }
     }
     out.correlation = Eigen::MatrixXd::Constant(n, n, nan);
@@ -85,36 +103,59 @@ Identifiability analyse_identifiability(const std::function<std::vector<double>(
         p.value = at[static_cast<std::size_t>(j)];
         // RMS change of the log for a +10 % change (linearised).
         p.sensitivity_m = s.col(j).norm() * std::log1p(kProbeChange) / std::sqrt(rows);
-        p.relative_sd = std::isfinite(cov(j, j)) ? std::sqrt(cov(j, j)) : std::numeric_limits<double>::infinity();
         p.ci_lo = p.value;
         p.ci_hi = p.value;
-        const bool is_seen = std::find(seen.begin(), seen.end(), j) != seen.end();
-        if (!is_seen) {
+        p.relative_sd = std::numeric_limits<double>::infinity();
+        const auto at_seen = std::find(seen.begin(), seen.end(), j);
+        if (at_seen == seen.end()) {
             p.identifiable = false;
-            p.reason = fmt::format("the log does not depend on it: a 10 % change moves the logged track by {:.2g} mm "
-                                   "RMS, less than one quantisation sigma ({:.2g} mm) over the whole log",
-                                   p.sensitivity_m * 1e3, sigma_m * 1e3);
-        } else if (!std::isfinite(p.relative_sd) || std::exp(kZ95 * p.relative_sd) > kMaxIntervalFactor) {
-            // The seen parameter it trades off with most.
-            Eigen::Index partner = j;
-            double strongest = -1.0;
-            for (const Eigen::Index k : seen) {
-                if (k == j) continue;
-                const double c = invertible ? std::fabs(out.correlation(j, k))
-                                            : std::fabs(scaled.col(j).normalized().dot(scaled.col(k).normalized()));
-                if (c > strongest) {
-                    strongest = c;
-                    partner = k;
+            p.reason = fmt::format("the log does not depend on it: a 10 % change moves the whole logged track by "
+                                   "{:.2g} mm (root sum of squares over its {} values), less than one quantisation "
+                                   "sigma ({:.2g} mm)",
+                                   s.col(j).norm() * std::log1p(kProbeChange) * 1e3, s.rows(), sigma_m * 1e3);
+            out.params.push_back(p);
+            continue;
+        }
+        const auto a = static_cast<Eigen::Index>(at_seen - seen.begin());
+        // Its weight in a direction the log cannot see, and the seen parameter weighing most there with it.
+        Eigen::Index partner = -1;
+        double partner_weight = 0.0;
+        double null_weight = 0.0;
+        for (Eigen::Index k = 0; k < m; ++k) {
+            if (!null_direction[static_cast<std::size_t>(k)] || std::fabs(v(a, k)) <= kNullWeight) continue;
+            null_weight = std::max(null_weight, std::fabs(v(a, k)));
+            for (Eigen::Index b = 0; b < m; ++b) {
+                if (b != a && std::fabs(v(b, k)) > partner_weight) {
+                    partner_weight = std::fabs(v(b, k));
+                    partner = seen[static_cast<std::size_t>(b)];
+                }
+            }
+        }
+        if (null_weight == 0.0) p.relative_sd = std::sqrt(cov(j, j));
+        if (null_weight > 0.0 || std::exp(kZ95 * p.relative_sd) > kMaxIntervalFactor) {
+            if (null_weight == 0.0) {
+                // Pinned badly rather than not at all: the parameter it is most correlated with.
+                for (const Eigen::Index k : seen) {
+                    if (k != j && std::fabs(out.correlation(j, k)) > partner_weight) {
+                        partner_weight = std::fabs(out.correlation(j, k));
+                        partner = k;
+                    }
                 }
             }
             p.identifiable = false;
-            p.reason = partner == j
-                           ? fmt::format("the log cannot pin it: its 95 % interval spans more than a factor of {}",
-                                         kMaxIntervalFactor)
-                           : fmt::format("the log cannot separate it from {} (correlation {:.3f}): only a combination "
-                                         "of the two is seen",
-                                         keys[static_cast<std::size_t>(partner)],
-                                         invertible ? out.correlation(j, partner) : strongest);
+            if (partner < 0) {
+                p.reason = fmt::format("the log cannot pin it: its 95 % interval spans more than a factor of {}",
+                                       kMaxIntervalFactor);
+            } else if (null_weight > 0.0) {
+                p.reason = fmt::format("the log cannot separate it from {}: only a combination of the two is seen "
+                                       "(a direction of parameter space the log does not see)",
+                                       keys[static_cast<std::size_t>(partner)]);
+            } else {
+                p.reason = fmt::format("the log cannot separate it from {} (correlation {:.3f}): its 95 % interval "
+                                       "spans more than a factor of {}",
+                                       keys[static_cast<std::size_t>(partner)], out.correlation(j, partner),
+                                       kMaxIntervalFactor);
+            }
         }
         if (std::isfinite(p.relative_sd)) {
             p.ci_lo = p.value * std::exp(-kZ95 * p.relative_sd);

@@ -12,11 +12,21 @@
 //   singular values of S / sigma: a small one is a direction in parameter
 //   space (its right singular vector) the log cannot see.
 //
+// The covariance comes from the SVD of S / sigma over the parameters the log
+// depends on: C = V diag(1 / s^2) V^T over the directions it sees; a singular
+// value below 1e-6 of the largest (or missing: fewer log values than
+// parameters) is a direction it does not see.
+//
 // A parameter is refused as unidentifiable when the log does not depend on it
-// (its column of S is below one sigma for a 10 % change) or when its
-// interval is wider than a factor of 2 either way (the data cannot pin it,
-// alone or through a trade-off with the others: the message names the
-// parameter it trades off with most).
+// (a 10 % change moves the whole log, root sum of squares over all its
+// values, by less than one sigma), when it has weight (> 0.1) in a direction
+// the log does not see, or when its interval is wider than a factor of 2
+// either way; the message names the parameter it trades off with most.
+//
+// The same sigma is used for every value of the prediction, the two encoder
+// totals (in metres of wheel travel) included: their own noise, about one
+// edge (0.5 mm on the thesis robot), is smaller, so their weight is slightly
+// understated.
 
 #include <Eigen/Dense>
 

@@ -37,9 +37,10 @@ hs::SimResult simulate_at_phase(const plant::RobotParams& params, const LogRun& 
     c.model = hs::Model::ideal;  // every firmware switch but eeprom_bytes: the unquantised pose is logged
     c.fidelity = hs::Fidelity::all();
     c.fidelity.set(hs::FidelitySwitch::eeprom_bytes, false);
-    // Long enough for every logged sample: one every 10 iterations of the
-    // sketch's dt = 0.01 s on the controller's clock (duration_s's clock).
-    c.duration_s = std::max(c.duration_s, 0.1 * static_cast<double>(run.log.samples.size()));
+    // As long as the logged run: the sketch logs once every 10 iterations of
+    // dt = 0.01 s (duration_s is on the controller's clock) and stops after
+    // the last one, when it prints Count1 and Count2.
+    c.duration_s = static_cast<double>(run.log.samples.size()) / 10.0;
     c.plant = params;
     c.plant.encoder[0].initial_phase = phase;
     c.plant.encoder[1].initial_phase = phase;

@@ -5,8 +5,9 @@
 // toward zero. A logged byte b therefore stands for every E with
 // int(E * 250) = c and c = b (mod 256): a cell 4 mm wide, repeated every
 // 1.024 m. The residual of a simulated E is its distance to the nearest such
-// cell (0 inside it): a fit is not pulled toward a cell's edge, and a run that
-// wraps (|E| > 0.512 m, or negative) needs no unwrapping of the log.
+// cell (0 inside it): a fit is not pulled toward a cell's edge, and a run
+// whose bytes wrap (E negative, or 1.024 m and more) needs no unwrapping of
+// the log, nor the ambiguity of unwrapping a jump of more than 0.512 m.
 //
 // int() truncates toward zero (C++ [conv.fpint]): c > 0 covers [c, c + 1)
 // counts, c < 0 covers (c - 1, c], and c = 0 covers (-1, 1), two counts wide.

@@ -294,7 +294,8 @@ int pwm_pin(const Ctx& c) {
             std::sort(inputs.begin(), inputs.end());
             c.fail(fmt::format("pin {} feeds no motor driver input of the board ({}); the driver inputs on timer "
                                "pins are {}",
-                               pin, c.wiring()->source, fmt::join(inputs, ", ")));
+                               pin, c.wiring()->source,
+                               inputs.empty() ? std::string("none") : fmt::format("{}", fmt::join(inputs, ", "))));
         }
     }
     return pin;

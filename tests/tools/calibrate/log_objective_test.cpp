@@ -53,8 +53,8 @@ TEST(LogObjective, TheSamePlantReproducesTheLogAPlantOffDoesNot) {
     // The host model against the HIL with the real firmware: inside the
     // log's 4 mm cells but for a fraction of a millimetre (measured 0.5 mm).
     EXPECT_LT(same.metrics.rms_m, 0.002) << same.metrics.rms_m;
-    EXPECT_NEAR(same.metrics.count1, static_cast<double>(run.log.count1), 0.01 * run.log.count1);
-    EXPECT_NEAR(same.metrics.count2, static_cast<double>(run.log.count2), 0.01 * run.log.count2);
+    EXPECT_NEAR(same.metrics.count1, static_cast<double>(run.log.count1), 0.01 * static_cast<double>(run.log.count1));
+    EXPECT_NEAR(same.metrics.count2, static_cast<double>(run.log.count2), 0.01 * static_cast<double>(run.log.count2));
     plant::RobotParams off = plant::default_robot_params();
     *plant::find_param(off, "motor1.resistance_ohm")->value *= 1.3;
     const Evaluation worse = evaluate(off, run, hil_like());
@@ -71,6 +71,10 @@ TEST(LogObjective, ThePartOfTheLogThatCounts) {
     const Evaluation b = evaluate(plant::default_robot_params(), second_half, hil_like());
     EXPECT_EQ(a.metrics.samples, 60u);
     EXPECT_EQ(b.metrics.samples, 60u);
+    EXPECT_NE(a.loss, b.loss);  // each half scores its own samples
+    // The totals count only with the run's end: x, y of 60 samples, then the two totals.
+    EXPECT_EQ(predicted_log(plant::default_robot_params(), first_half, hil_like()).size(), 120u);
+    EXPECT_EQ(predicted_log(plant::default_robot_params(), second_half, hil_like()).size(), 122u);
     const LogRun empty{case1_log(), 60, 60};
     EXPECT_THROW(evaluate(plant::default_robot_params(), empty, hil_like()), std::invalid_argument);
     ObjectiveConfig bad = hil_like();
