@@ -88,7 +88,7 @@ bench: build
 # warning an error, one file per process, $(JOBS) at once; its stderr (the
 # per-file counts of warnings in system headers) goes to
 # $(BUILD)/clang-tidy.stderr and is shown, without those counts, on failure.
-LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp tools/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
+LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp tools/*.cpp tools/calibrate/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
 lint: configure
 	@cmake -S . -B $(BUILD) >/dev/null  # compile_commands.json up to date with new sources
 	cppcheck --enable=warning,performance,portability --std=c++17 --language=c++ --inline-suppr \

@@ -109,15 +109,14 @@ def main():
         goal("16 case-1 runs: 2 workers / 1 worker", j2 / j1, ">= 1.8", j2 / j1 >= 1.8)
     if suite is not None:
         goal("shipped scenario suite, wall seconds", suite, "< 120 s", suite < 120.0)
-    # Issue 18: five parameters on two logs, under 2 minutes, and converged.
-    for args in ("0/300", "150/150"):
-        name = find(f"BM_Calibrate5Params2Logs/{args}/")
-        if name:
-            r = rows[name]
-            goal(f"calibration of 5 parameters on 2 logs (budgets {args}), wall seconds", r["median_wall_s"], "< 120 s",
-                 r["median_wall_s"] < 120.0)
-            goal(f"calibration (budgets {args}): worst relative error of the 5 values", r.get("worst_rel_error", 1.0),
-                 "< 0.05", r.get("worst_rel_error", 1.0) < 0.05)
+    # Issue 18: five parameters on two logs, under 2 minutes, and right.
+    name = find("BM_Calibrate5Params2Logs")
+    if name:
+        r = rows[name]
+        goal("calibration of 5 parameters on 2 logs, wall seconds", r["median_wall_s"], "< 120 s", r["median_wall_s"] < 120.0)
+        goal("calibration: RMS distance of the fitted plant to the logs, mm", r.get("rms_mm", 1e9), "< 5", r.get("rms_mm", 1e9) < 5.0)
+        goal("calibration: true values inside their intervals (of 5)", r.get("truth_in_interval", 0), "5",
+             r.get("truth_in_interval", 0) == 5)
     if long1 and long10:
         a, b = rows[long1], rows[long10]
         goal("10-min / 1-min simulated run: Mcycles/s", b["median"] / a["median"], "~1 (linear cost)", b["median"] / a["median"] >= 0.9)

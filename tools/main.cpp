@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "exit_codes.hpp"
+#include "calibrate_command.hpp"
 #include "compare_command.hpp"
 #include "merge_command.hpp"
 #include "plant_command.hpp"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
         ddmr::tools::register_sweep_command(app),
         ddmr::tools::register_scenario_command(app),
         ddmr::tools::register_merge_command(app),
+        ddmr::tools::register_calibrate_command(app),
     };
     try {
         app.parse(argc, argv);

@@ -53,6 +53,20 @@ TEST(AtomicFile, OutputDirIsCreatedWithParents) {
     EXPECT_TRUE(std::filesystem::is_directory(dir / "a" / "b"));
 }
 
+TEST(AtomicFile, OutputDirCheckCreatesNothing) {
+    TempDir dir;
+    tools::check_output_dir(dir / "a" / "b");  // its nearest existing part is writable
+    EXPECT_FALSE(std::filesystem::exists(dir / "a"));
+    tools::write_file_atomic(dir / "f", "x");
+    try {
+        tools::check_output_dir(dir / "f" / "sub");
+        FAIL();
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("/f is not a folder"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(tools::check_output_dir(dir / "f"), std::runtime_error);
+}
+
 TEST(AtomicFile, OutputFileCheckNeedsAnExistingFolderAndCreatesNothing) {
     TempDir dir;
     EXPECT_NO_THROW(tools::check_output_file(dir / "run.vcd"));

@@ -13,6 +13,8 @@ namespace {
 
 /// What NLopt sees for a loss that is not a number (a diverged plant).
 constexpr double kNonFiniteLoss = 1e30;
+/// A local restart is worth another when it lowered the loss by this fraction.
+constexpr double kRestartGain = 1e-4;
 
 struct Problem {
     const std::vector<FitParam>* params;
@@ -91,7 +93,20 @@ FitResult fit(const std::vector<FitParam>& params, const std::function<double(co
         objective(z0, unused, &pr);
     }
     r.global_loss = pr.best;
-    run_stage(nlopt::LN_BOBYQA, options.local_evaluations, pr.best_x, pr, options.seed + 1);
+    // BOBYQA, restarted from its result while a restart still improves it
+    // (a restart rebuilds the quadratic model with a fresh trust region: the
+    // loss is only piecewise smooth, encoder edges being discrete, and one
+    // run can stop on a kink), within the local budget.
+    const int local_start = pr.evaluations;
+    uint64_t stage_seed = options.seed + 1;
+    for (bool first = true;; first = false) {
+        const int left = options.local_evaluations - (pr.evaluations - local_start);
+        // A restart's first model needs 2n + 1 points to be of any use.
+        if (left < 1 || (!first && left < 2 * static_cast<int>(params.size()) + 2)) break;
+        const double before = pr.best;
+        run_stage(nlopt::LN_BOBYQA, left, pr.best_x, pr, stage_seed++);
+        if (!(pr.best < before - kRestartGain * std::max(std::fabs(before), 1e-12))) break;
+    }
     r.values = pr.unscale(pr.best_x);
     r.loss = pr.best;
     r.evaluations = pr.evaluations;

@@ -7,7 +7,8 @@
 // from its best point with BOBYQA (NLOPT_LN_BOBYQA: quadratic models, few
 // evaluations near a minimum). Each parameter is searched on [0, 1] scaled
 // linearly between its bounds, so tolerances mean the same for an ohm and a
-// volt.
+// volt. BOBYQA is restarted from its result while that still lowers the loss
+// by 1e-4 of itself and its budget lasts.
 //
 // Deterministic: NLopt's generator is seeded from FitOptions::seed before
 // each stage, and the evaluation order is NLopt's own (single thread). NLopt
@@ -30,7 +31,7 @@ struct FitParam {
 struct FitOptions {
     uint64_t seed = 1;
     int global_evaluations = 200;  ///< CRS2 budget; 0: local stage only, from the starts
-    int local_evaluations = 200;   ///< BOBYQA budget, >= 1
+    int local_evaluations = 200;   ///< BOBYQA budget (its restarts included), >= 1
     double x_tolerance = 1e-4;     ///< relative to each parameter's box (scaled units)
     /// Called after every evaluation: (evaluations so far, best loss so far).
     std::function<void(int, double)> progress;

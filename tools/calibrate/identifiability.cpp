@@ -20,22 +20,24 @@ constexpr double kNullRatio = 1e-6;
 /// A parameter whose weight in such a direction exceeds this is not identifiable.
 constexpr double kNullWeight = 0.1;
 
-}  // namespace
 
-double log_noise_m() { return 0.004 / std::sqrt(12.0); }
-
-Identifiability analyse_identifiability(const std::function<std::vector<double>(const std::vector<double>&)>& predict,
-                                        const std::vector<std::string>& keys, const std::vector<double>& at,
-                                        double sigma_m, double relative_step) {
-    const auto n = static_cast<Eigen::Index>(at.size());
+void check_point(const std::vector<std::string>& keys, const std::vector<double>& at) {
     if (keys.size() != at.size() || at.empty()) throw std::invalid_argument("identifiability: one key per value, at least one");
-    if (!(sigma_m > 0.0)) throw std::invalid_argument("identifiability: sigma must be > 0");
-    if (!(relative_step > 0.0 && relative_step <= 0.5)) throw std::invalid_argument("identifiability: step must be in (0, 0.5]");
     for (std::size_t j = 0; j < at.size(); ++j) {
         if (!(at[j] > 0.0 && std::isfinite(at[j]))) {
             throw std::invalid_argument(fmt::format("identifiability: {} = {} is not a positive value", keys[j], at[j]));
         }
     }
+}
+
+}  // namespace
+
+double log_noise_m() { return 0.004 / std::sqrt(12.0); }
+
+Eigen::MatrixXd sensitivity_matrix(const std::function<std::vector<double>(const std::vector<double>&)>& predict,
+                                   const std::vector<double>& at, double relative_step) {
+    if (!(relative_step > 0.0 && relative_step <= 0.5)) throw std::invalid_argument("identifiability: step must be in (0, 0.5]");
+    const auto n = static_cast<Eigen::Index>(at.size());
     // S: d y / d ln(theta), central differences.
     Eigen::MatrixXd s;
     for (Eigen::Index j = 0; j < n; ++j) {
@@ -52,6 +54,24 @@ Identifiability analyse_identifiability(const std::function<std::vector<double>(
             s(i, j) = (yu[static_cast<std::size_t>(i)] - yd[static_cast<std::size_t>(i)]) / (2.0 * relative_step);
         }
     }
+    return s;
+}
+
+Identifiability analyse_identifiability(const std::function<std::vector<double>(const std::vector<double>&)>& predict,
+                                        const std::vector<std::string>& keys, const std::vector<double>& at,
+                                        double sigma_m, double relative_step, double model_tolerance_m) {
+    check_point(keys, at);
+    if (!(sigma_m > 0.0)) throw std::invalid_argument("identifiability: sigma must be > 0");
+    return analyse_sensitivities(sensitivity_matrix(predict, at, relative_step), keys, at, sigma_m, model_tolerance_m);
+}
+
+Identifiability analyse_sensitivities(const Eigen::MatrixXd& s, const std::vector<std::string>& keys,
+                                      const std::vector<double>& at, double sigma_m, double model_tolerance_m) {
+    check_point(keys, at);
+    if (!(sigma_m > 0.0)) throw std::invalid_argument("identifiability: sigma must be > 0");
+    if (!(model_tolerance_m >= 0.0)) throw std::invalid_argument("identifiability: the model tolerance must be >= 0");
+    const auto n = static_cast<Eigen::Index>(at.size());
+    if (s.cols() != n || s.rows() == 0) throw std::invalid_argument("identifiability: one sensitivity column per parameter");
     Identifiability out;
     out.sigma_m = sigma_m;
     const Eigen::MatrixXd scaled = s / sigma_m;
@@ -106,6 +126,7 @@ Identifiability analyse_identifiability(const std::function<std::vector<double>(
         p.ci_lo = p.value;
         p.ci_hi = p.value;
         p.relative_sd = std::numeric_limits<double>::infinity();
+        p.half_width = std::numeric_limits<double>::infinity();
         const auto at_seen = std::find(seen.begin(), seen.end(), j);
         if (at_seen == seen.end()) {
             p.identifiable = false;
@@ -131,8 +152,14 @@ Identifiability analyse_identifiability(const std::function<std::vector<double>(
                 }
             }
         }
-        if (null_weight == 0.0) p.relative_sd = std::sqrt(cov(j, j));
-        if (null_weight > 0.0 || std::exp(kZ95 * p.relative_sd) > kMaxIntervalFactor) {
+        if (null_weight == 0.0) {
+            p.relative_sd = std::sqrt(cov(j, j));
+            // The model's tolerance: the change of ln(theta) (the others
+            // re-fitted) that moves the track by model_tolerance_m RMS over
+            // its values: dRMS^2 = d^2 / (rows x (S^T S)^-1_jj).
+            p.half_width = std::max(kZ95 * p.relative_sd, model_tolerance_m * std::sqrt(rows) * p.relative_sd / sigma_m);
+        }
+        if (null_weight > 0.0 || std::exp(p.half_width) > kMaxIntervalFactor) {
             if (null_weight == 0.0) {
                 // Pinned badly rather than not at all: the parameter it is most correlated with.
                 for (const Eigen::Index k : seen) {
@@ -157,12 +184,64 @@ Identifiability analyse_identifiability(const std::function<std::vector<double>(
                                        kMaxIntervalFactor);
             }
         }
-        if (std::isfinite(p.relative_sd)) {
-            p.ci_lo = p.value * std::exp(-kZ95 * p.relative_sd);
-            p.ci_hi = p.value * std::exp(kZ95 * p.relative_sd);
+        if (std::isfinite(p.half_width)) {
+            p.ci_lo = p.value * std::exp(-p.half_width);
+            p.ci_hi = p.value * std::exp(p.half_width);
         }
         out.params.push_back(p);
     }
+    return out;
+}
+
+Selection select_identifiable(const Eigen::MatrixXd& s, const std::vector<std::string>& keys,
+                              const std::vector<double>& at, double max_half_width, double sigma_m,
+                              double model_tolerance_m) {
+    check_point(keys, at);
+    if (s.cols() != static_cast<Eigen::Index>(keys.size())) {
+        throw std::invalid_argument("identifiability: one sensitivity column per parameter");
+    }
+    if (!(max_half_width > 0.0)) throw std::invalid_argument("identifiability: the largest half-width must be > 0");
+    // Most visible first; ties in file order (a stable sort: deterministic).
+    std::vector<std::size_t> order(keys.size());
+    for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return s.col(static_cast<Eigen::Index>(a)).norm() > s.col(static_cast<Eigen::Index>(b)).norm();
+    });
+    Selection out;
+    for (const std::size_t j : order) {
+        std::vector<std::size_t> trial = out.chosen;
+        trial.push_back(j);
+        Eigen::MatrixXd sub(s.rows(), static_cast<Eigen::Index>(trial.size()));
+        std::vector<std::string> sub_keys;
+        std::vector<double> sub_at;
+        for (std::size_t k = 0; k < trial.size(); ++k) {
+            sub.col(static_cast<Eigen::Index>(k)) = s.col(static_cast<Eigen::Index>(trial[k]));
+            sub_keys.push_back(keys[trial[k]]);
+            sub_at.push_back(at[trial[k]]);
+        }
+        const Identifiability a = analyse_sensitivities(sub, sub_keys, sub_at, sigma_m, model_tolerance_m);
+        const ParamIdentifiability& mine = a.params.back();
+        std::string reason;
+        if (!mine.identifiable) {
+            reason = mine.reason;
+        } else if (mine.half_width > max_half_width) {
+            reason = fmt::format("the log pins it only to within x{:.2f} either way", std::exp(mine.half_width));
+        } else {
+            // Adding it must not spoil one chosen before.
+            for (std::size_t k = 0; k + 1 < trial.size() && reason.empty(); ++k) {
+                const ParamIdentifiability& other = a.params[k];
+                if (!other.identifiable || other.half_width > max_half_width) {
+                    reason = fmt::format("the log cannot separate it from {}, fitted before it (more visible)", other.key);
+                }
+            }
+        }
+        if (reason.empty()) {
+            out.chosen.push_back(j);
+        } else {
+            out.left_out.push_back({j, reason});
+        }
+    }
+    std::sort(out.chosen.begin(), out.chosen.end());
     return out;
 }
 

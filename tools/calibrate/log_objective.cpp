@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <stdexcept>
+#include <thread>
 
 #include "calibrate/log_residual.hpp"
 #include "hil/eeprom_log.hpp"
@@ -47,6 +49,27 @@ hs::SimResult simulate_at_phase(const plant::RobotParams& params, const LogRun& 
     return hs::simulate(c);
 }
 
+/// The simulations at every encoder phase, in the phases' order, on up to
+/// config.threads threads (each simulation is independent: the order of the
+/// results, and so every sum over them, does not depend on the threads).
+std::vector<hs::SimResult> simulate_phases(const plant::RobotParams& params, const LogRun& run,
+                                           const ObjectiveConfig& config) {
+    const std::size_t n = config.encoder_phases.size();
+    std::size_t threads = config.threads > 0 ? static_cast<std::size_t>(config.threads)
+                                             : std::max(1U, std::thread::hardware_concurrency());
+    threads = std::min(threads, n);
+    std::vector<hs::SimResult> results(n);
+    // Phase i on worker i % threads.
+    const auto work = [&](std::size_t w) {
+        for (std::size_t i = w; i < n; i += threads) results[i] = simulate_at_phase(params, run, config, config.encoder_phases[i]);
+    };
+    std::vector<std::future<void>> workers;
+    for (std::size_t w = 1; w < threads; ++w) workers.push_back(std::async(std::launch::async, work, w));
+    work(0);
+    for (auto& f : workers) f.get();
+    return results;
+}
+
 bool totals_count(const LogRun& run, const ObjectiveConfig& config) {
     return range_end(run) == run.log.samples.size() && config.count_weight > 0.0;
 }
@@ -65,6 +88,7 @@ void validate(const LogRun& run, const ObjectiveConfig& config) {
     }
     if (!(config.loss_scale_m > 0.0)) throw std::invalid_argument("the loss scale must be > 0 m");
     if (!(config.count_weight >= 0.0)) throw std::invalid_argument("the count weight must be >= 0");
+    if (config.threads < 0) throw std::invalid_argument("the thread count must be >= 0");
 }
 
 std::vector<double> predicted_log(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config) {
@@ -74,8 +98,7 @@ std::vector<double> predicted_log(const plant::RobotParams& params, const LogRun
     const bool totals = totals_count(run, config);
     std::vector<double> out(2 * counted + (totals ? 2 : 0), 0.0);
     const double phases = static_cast<double>(config.encoder_phases.size());
-    for (const double phase : config.encoder_phases) {
-        const hs::SimResult r = simulate_at_phase(params, run, config, phase);
+    for (const hs::SimResult& r : simulate_phases(params, run, config)) {
         for (std::size_t k = run.first; k < end; ++k) {
             const bool have = k < r.eeprom_log.size();
             out[2 * (k - run.first)] += (have ? r.eeprom_log[k].x_m : kMissingSampleDistance_m) / phases;
@@ -87,6 +110,23 @@ std::vector<double> predicted_log(const plant::RobotParams& params, const LogRun
         }
     }
     return out;
+}
+
+std::vector<double> centre_residuals(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config) {
+    std::vector<double> r = predicted_log(params, run, config);
+    const std::size_t end = range_end(run);
+    for (std::size_t k = run.first; k < end; ++k) {
+        double& x = r[2 * (k - run.first)];
+        double& y = r[2 * (k - run.first) + 1];
+        x = cell_centre_residual_m(x, run.log.samples[k].x_byte);
+        y = cell_centre_residual_m(y, run.log.samples[k].y_byte);
+    }
+    if (totals_count(run, config)) {
+        const std::size_t counted = end - run.first;
+        r[2 * counted] -= static_cast<double>(run.log.count1) * metres_per_edge(config.base.plant, 0);
+        r[2 * counted + 1] -= static_cast<double>(run.log.count2) * metres_per_edge(config.base.plant, 1);
+    }
+    return r;
 }
 
 std::vector<std::pair<double, double>> logged_positions(const RobotLog& log) {
@@ -112,8 +152,7 @@ Evaluation evaluate(const plant::RobotParams& params, const LogRun& run, const O
 
     Evaluation ev;
     const double phases = static_cast<double>(config.encoder_phases.size());
-    for (const double phase : config.encoder_phases) {
-        const hs::SimResult r = simulate_at_phase(params, run, config, phase);
+    for (const hs::SimResult& r : simulate_phases(params, run, config)) {
         if (r.status != plant::StepStatus::ok) ev.plant_failed = true;
 
         double loss = 0.0;

@@ -43,6 +43,9 @@ struct ObjectiveConfig {
     std::vector<double> encoder_phases{0.125, 0.375, 0.625, 0.875};  ///< each in [0, 1)
     double loss_scale_m = 0.004;  ///< soft-L1 scale: one log count
     double count_weight = 1.0;    ///< weight of each total against one sample axis, >= 0
+    /// Threads the phases' simulations run on (0: one per core); the result
+    /// does not depend on it.
+    int threads = 0;
 };
 
 /// Distances between the simulation and the log over the counted samples,
@@ -77,6 +80,12 @@ Evaluation evaluate(const plant::RobotParams& params, const LogRun& run, const O
 /// (unquantised), then, when the totals count, the two encoder totals in
 /// metres of wheel travel. What the identifiability analysis differentiates.
 std::vector<double> predicted_log(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config);
+
+/// What a least-squares fit drives to zero: predicted_log's values minus
+/// the log's, each coordinate from the centre of its sample's nearest cell
+/// (log_residual.hpp), each total in metres of wheel travel. Same order and
+/// size as predicted_log.
+std::vector<double> centre_residuals(const plant::RobotParams& params, const LogRun& run, const ObjectiveConfig& config);
 
 /// The logged position of sample k [m]: the bytes unwrapped from sample 0
 /// (hil::unwrap_counts) over 250.

@@ -30,6 +30,11 @@ CountCell count_cell(long long c);
 /// int(sim_m * 250) has the low byte `byte`.
 double cell_residual_m(double sim_m, uint8_t byte, double counts_per_m = kLogCountsPerMetre);
 
+/// Signed distance [m] from `sim_m` to the centre of the nearest cell of
+/// `byte` (a least-squares residual: smooth across the cell, where
+/// cell_residual_m is flat).
+double cell_centre_residual_m(double sim_m, uint8_t byte, double counts_per_m = kLogCountsPerMetre);
+
 /// The soft-L1 (pseudo-Huber) loss of a residual r at scale s > 0:
 /// 2 s^2 (sqrt(1 + (r/s)^2) - 1). Quadratic (r^2) for |r| << s, linear
 /// (2 s |r|) for |r| >> s: a few bad samples (a wheel slip, a bumped robot)

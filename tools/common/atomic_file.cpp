@@ -92,6 +92,26 @@ void prepare_output_dir(const fs::path& dir) {
     }
 }
 
+void check_output_dir(const fs::path& dir) {
+    std::error_code ec;
+    if (dir.empty()) throw std::runtime_error("the output folder is an empty name");
+    fs::path existing = dir;
+    while (!fs::exists(existing, ec)) {
+        const fs::path parent = existing.has_parent_path() ? existing.parent_path() : fs::path(".");
+        if (parent == existing) break;
+        existing = parent;
+    }
+    if (!fs::is_directory(existing, ec)) {
+        throw std::runtime_error(existing == dir ? "output folder " + dir.string() + " exists and is not a folder"
+                                                 : "output folder " + dir.string() + ": " + existing.string() +
+                                                       " is not a folder");
+    }
+    if (::access(existing.c_str(), W_OK) != 0) {
+        throw std::runtime_error("output folder " + dir.string() + ": " + existing.string() + " is not writable: " +
+                                 std::strerror(errno));
+    }
+}
+
 void check_output_file(const fs::path& file) {
     std::error_code ec;
     if (file.empty() || !file.has_filename()) throw std::runtime_error("'" + file.string() + "' names no file");

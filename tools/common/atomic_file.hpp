@@ -44,6 +44,11 @@ private:
 /// Call it before a run so bad output folders fail up front.
 void prepare_output_dir(const std::filesystem::path& dir);
 
+/// Checks that `dir` could be made an output folder later without creating
+/// anything now: it is a writable folder, or the nearest part of its path
+/// that exists is. Throws std::runtime_error saying which part is wrong.
+void check_output_dir(const std::filesystem::path& dir);
+
 /// Checks that `file` can be written later without creating anything now:
 /// its parent folder (the current one if it has none) exists, is a folder and
 /// is writable, and `file` is not a folder. Throws std::runtime_error saying

@@ -1,6 +1,5 @@
-// The optimiser on losses whose minimum is known by construction, and on a
-// synthetic robot: the HIL (the real firmware) with a perturbed plant, whose
-// serial dump the host objective fits back.
+// The optimiser on losses whose minimum is known by construction (its use on
+// a synthetic robot's logs: calibration_test.cpp).
 #include "calibrate/fit.hpp"
 
 #include <gtest/gtest.h>
@@ -9,9 +8,6 @@
 #include <limits>
 #include <string>
 
-#include "calibrate/log_objective.hpp"
-#include "plant/param_access.hpp"
-#include "support/rig_run.hpp"
 
 namespace ddmr::calibrate {
 namespace {
@@ -89,49 +85,6 @@ TEST(Fit, ABadBoxOrStartIsNamed) {
         EXPECT_STREQ(e.what(), "driver.drop_V: the start 3 is outside [0.5, 2.5]");
     }
     EXPECT_THROW(fit({}, f, FitOptions{}), std::invalid_argument);
-}
-
-// A robot whose right motor's resistance is 15 % above Table 2's and whose
-// L298 drops 1.6 V instead of 1.4 V: its case-1 dump, fitted from the
-// defaults on those two parameters, gives them back (measured: 0.2 %) and
-// reproduces the log inside its cells (RMS 0.2 mm).
-TEST(Fit, RecoversAPerturbedPlantFromItsHilLog) {
-    plant::RobotParams truth = plant::default_robot_params();
-    truth.motor[0].resistance_ohm = 5.32 * 1.15;
-    truth.driver.drop_V = 1.6;
-    hil::RigConfig rig;
-    rig.plant = truth;
-    const test::RigRun robot = test::run_rig_case('1', rig);
-    ASSERT_TRUE(robot.report_complete);
-    const LogRun run{parse_robot_log(robot.text, "robot.txt"), 0, 0};
-
-    ObjectiveConfig objective;
-    objective.base.pwm = hostsim::PwmModel::switched;  // as the HIL drives the plant
-    objective.base.period_s = 0.01044;                 // the HIL's measured loop period
-    const std::vector<std::string> keys = {"motor1.resistance_ohm", "driver.drop_V"};
-    const plant::RobotParams start = plant::default_robot_params();
-    plant::RobotParams scratch = start;
-    std::vector<FitParam> params;
-    for (const std::string& k : keys) {
-        const double v = *plant::find_param(scratch, k)->value;
-        params.push_back({k, v, 0.5 * v, 1.6 * v});
-    }
-    const auto loss = [&](const std::vector<double>& v) {
-        plant::RobotParams p = start;
-        for (std::size_t i = 0; i < v.size(); ++i) *plant::find_param(p, keys[i])->value = v[i];
-        return evaluate(p, run, objective).loss;
-    };
-    FitOptions options;
-    options.global_evaluations = 60;
-    options.local_evaluations = 60;
-    const FitResult r = fit(params, loss, options);
-    EXPECT_NEAR(r.values[0], truth.motor[0].resistance_ohm, 0.01 * truth.motor[0].resistance_ohm);
-    EXPECT_NEAR(r.values[1], 1.6, 0.016);
-    plant::RobotParams fitted = start;
-    fitted.motor[0].resistance_ohm = r.values[0];
-    fitted.driver.drop_V = r.values[1];
-    EXPECT_LT(evaluate(fitted, run, objective).metrics.rms_m, 0.002);
-    EXPECT_GT(evaluate(start, run, objective).metrics.rms_m, 0.02);  // the defaults do not
 }
 
 }  // namespace

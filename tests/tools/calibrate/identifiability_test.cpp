@@ -66,6 +66,44 @@ TEST(Identifiability, AParameterThePredictionIgnoresAndATradeOff) {
     EXPECT_LT(p.singular_values[1], 1e-6 * p.singular_values[0]);
 }
 
+// The same linear prediction with a model tolerance t = 0.02: over its 3
+// values the half-width is max(1.96 sd, t sqrt(3) sd / sigma) = 3.46 sd
+// (t sqrt(3) / sigma = 3.464 > 1.96): a model right only to 2 cm cannot tell
+// apart values it predicts to within 2 cm, however sharp the noise.
+TEST(Identifiability, AModelToleranceWidensTheIntervals) {
+    const auto predict = [](const std::vector<double>& t) { return std::vector<double>{t[0], t[1], t[0] + t[1]}; };
+    const Identifiability sharp = analyse_identifiability(predict, {"a", "b"}, {1.0, 2.0}, 0.01, 0.01, 0.0);
+    const Identifiability wide = analyse_identifiability(predict, {"a", "b"}, {1.0, 2.0}, 0.01, 0.01, 0.02);
+    EXPECT_NEAR(sharp.params[0].half_width, 1.959964 * 0.0081650, 1e-6);
+    EXPECT_NEAR(wide.params[0].half_width, 0.02 * std::sqrt(3.0) / 0.01 * 0.0081650, 1e-6);
+    EXPECT_NEAR(wide.params[1].ci_hi, 2.0 * std::exp(0.02 * std::sqrt(3.0) / 0.01 * 0.0040825), 1e-5);
+    EXPECT_DOUBLE_EQ(wide.params[0].relative_sd, sharp.params[0].relative_sd);  // the statistics do not change
+}
+
+// Candidates a, b = 2 a (the same column twice over: only their combination
+// shows) and c on its own axis. The most visible, b, is kept; a is refused
+// as inseparable from it; c is kept. With a half-width limit below c's, c is
+// refused too, with the width it gets.
+TEST(Identifiability, SelectionKeepsWhatTheLogPinsDownTogether) {
+    Eigen::MatrixXd s(4, 3);
+    s << 1, 2, 0,  //
+        1, 2, 0,   //
+        0, 0, 1,   //
+        0, 0, 1;
+    const std::vector<std::string> keys = {"a", "b", "c"};
+    const std::vector<double> at = {1.0, 1.0, 1.0};
+    const Selection sel = select_identifiable(s, keys, at, 0.5, 0.01);
+    ASSERT_EQ(sel.chosen, (std::vector<std::size_t>{1, 2}));
+    ASSERT_EQ(sel.left_out.size(), 1u);
+    EXPECT_EQ(sel.left_out[0].index, 0u);
+    EXPECT_NE(sel.left_out[0].reason.find("cannot separate it from b"), std::string::npos) << sel.left_out[0].reason;
+    // c alone: sd = sigma / |column| = 0.01 / sqrt(2); half-width 1.96 x that = 0.01386.
+    const Selection strict = select_identifiable(s, keys, at, 0.01, 0.01);
+    ASSERT_EQ(strict.chosen, (std::vector<std::size_t>{1}));
+    EXPECT_EQ(strict.left_out.back().index, 2u);
+    EXPECT_NE(strict.left_out.back().reason.find("within x1.01"), std::string::npos) << strict.left_out.back().reason;
+}
+
 TEST(Identifiability, BadInputIsRefused) {
     const auto f = [](const std::vector<double>& t) { return t; };
     EXPECT_THROW(analyse_identifiability(f, {"a"}, {-1.0}), std::invalid_argument);

@@ -46,6 +46,18 @@ TEST(CellResidual, ADivergedRunIsFarAndNotANumberIsInfinitelyFar) {
     EXPECT_TRUE(std::isinf(cell_residual_m(std::nan(""), 0)));
 }
 
+// Byte 1 is the cell [1, 2) counts, centre 1.5 (6 mm); byte 255 next to 0
+// is c = -1, the cell (-2, -1], centre -1.5; byte 0 is (-1, 1), centre 0;
+// the nearest repeat of byte 1 from 1.03 m (257.5 counts) is c = 257.
+TEST(CellCentreResidual, SignedDistanceToTheNearestCellsCentre) {
+    EXPECT_NEAR(cell_centre_residual_m(0.0041, 1), (1.025 - 1.5) / 250.0, 1e-12);
+    EXPECT_NEAR(cell_centre_residual_m(0.0070, 1), (1.75 - 1.5) / 250.0, 1e-12);
+    EXPECT_NEAR(cell_centre_residual_m(-0.005, 255), (-1.25 + 1.5) / 250.0, 1e-12);
+    EXPECT_NEAR(cell_centre_residual_m(0.002, 0), 0.002, 1e-12);
+    EXPECT_NEAR(cell_centre_residual_m(1.03, 1), (257.5 - 257.5) / 250.0, 1e-12);
+    EXPECT_TRUE(std::isinf(cell_centre_residual_m(std::nan(""), 0)));
+}
+
 TEST(SoftL1, QuadraticNearZeroLinearFarAway) {
     EXPECT_DOUBLE_EQ(soft_l1(0.0, 0.004), 0.0);
     EXPECT_NEAR(soft_l1(1e-6, 0.004), 1e-12, 1e-18);  // r^2

@@ -1,0 +1,119 @@
+// `ddmr-hil calibrate` through the binary (tools/calibrate_command.cpp): the
+// outputs the issue names (plant.yaml loadable with --plant, calibration.json
+// with train / holdout / before, report.md with its plots, the HIL
+// confirmation), byte-identical reruns, and refused input (exit 2, one line,
+// nothing written). The fits here are tiny (budgets of a few evaluations):
+// whether a calibration converges is calibration_test.cpp's subject.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "plant/params_yaml.hpp"
+#include "support/process.hpp"
+#include "support/temp_dir.hpp"
+#include "support/test_paths.hpp"
+
+namespace ddmr::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string cli() { return sh_quote(DDMR_TEST_CLI); }
+
+/// The synthetic robot's case-1 dump, made once by the HIL.
+const fs::path& robot_log() {
+    static TempDir dir;
+    static const fs::path log = [] {
+        const fs::path plant = source_dir() / "tests/tools/calibrate/data/perturbed_robot.yaml";
+        const ProcessResult r = run_command(cli() + " run --case 1 -q --plant " + sh_quote(plant.string()) + " --out " +
+                                            sh_quote((dir / "robot").string()));
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return dir / "robot" / "uart.txt";
+    }();
+    return log;
+}
+
+const std::string kTiny = " --fit motor1.resistance_ohm --lm-evals 6 --local-evals 3 --phases 1 -q";
+
+TEST(CalibrateCommand, WritesThePlantTheScoresTheReportAndConfirmsInTheHil) {
+    TempDir dir;
+    const fs::path out = dir / "cal";
+    const ProcessResult r = run_command(cli() + " calibrate " + sh_quote(robot_log().string()) + " --split 0.5" + kTiny +
+                                        " --out " + sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("motor1.resistance_ohm"), std::string::npos) << r.out;
+
+    // plant.yaml loads as a plant file and says where the value came from.
+    const std::string yaml = read_text(out / "plant.yaml");
+    EXPECT_NE(yaml.find("resistance_ohm: "), std::string::npos);
+    EXPECT_NE(yaml.find("# fitted (start 5.32): interval ["), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("uart.txt [0, 60)"), std::string::npos) << yaml;
+    const plant::RobotParams p = plant::load_robot_params(out / "plant.yaml");
+
+    const auto j = nlohmann::json::parse(read_text(out / "calibration.json"));
+    EXPECT_DOUBLE_EQ(j["params"][0]["value"].get<double>(), p.motor[0].resistance_ohm);
+    for (const auto* part : {&j["train"], &j["holdout"], &j["before"]["train"], &j["before"]["holdout"]}) {
+        for (const char* k : {"rms_m", "max_m", "endpoint_m", "endpoint_pct", "samples"}) {
+            EXPECT_TRUE((*part)[k].is_number()) << k << " in " << part->dump();
+        }
+    }
+    EXPECT_EQ(j["train"]["samples"], 60);
+    EXPECT_EQ(j["holdout"]["samples"], 60);
+    EXPECT_TRUE(j["train"]["count1"].is_null());  // the fitted half does not reach the totals
+    EXPECT_TRUE(j["holdout"]["count1"].is_number());
+    EXPECT_EQ(j["holdout"]["logged_count1"].get<uint64_t>() > 0, true);
+    EXPECT_EQ(j["hil"]["exit"], "report_complete");
+    EXPECT_TRUE(fs::exists(out / "hil" / "uart.txt"));
+
+    const std::string md = read_text(out / "report.md");
+    EXPECT_NE(md.find("| `motor1.resistance_ohm` | 5.32 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("![split: fitted, then judged](xy_1_uart.svg)"), std::string::npos) << md;
+    EXPECT_EQ(read_text(out / "xy_1_uart.svg").rfind("<svg ", 0), 0U);
+    EXPECT_EQ(read_text(out / "tracks.csv").rfind("log,sample,logged_x_m,logged_y_m,before_x_m,", 0), 0U);
+}
+
+TEST(CalibrateCommand, RerunIsByteIdentical) {
+    TempDir dir;
+    for (const char* sub : {"a", "b"}) {
+        const ProcessResult r = run_command(cli() + " calibrate " + sh_quote(robot_log().string()) + kTiny +
+                                            " --no-hil --out " + sh_quote((dir / sub).string()));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    EXPECT_EQ(file_tree(dir / "a"), file_tree(dir / "b"));
+}
+
+TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
+    TempDir dir;
+    const fs::path bad_log = dir / "bad.txt";
+    {
+        std::ofstream(bad_log) << "0.6m\n1 , 2\n";
+    }
+    const std::string log = sh_quote(robot_log().string());
+    const struct {
+        std::string args;
+        std::string message;
+    } cases[] = {
+        {log + " --fit kinematics.wheel_radius_right_m",
+         "--fit kinematics.wheel_radius_right_m: the log does not depend on it"},
+        {log + " --fit motor1.nonsense", "--fit motor1.nonsense: not a real-valued plant parameter"},
+        {log + " --split 1.5", "--split 1.5: not in (0, 1)"},
+        {log + " --case 2", "its banner says case 1, --case says 2"},
+        {log + " --split 0.5 --hold-out " + log, "--split and --hold-out: give one of them"},
+        {sh_quote(bad_log.string()), "bad.txt"},
+    };
+    for (const auto& c : cases) {
+        const fs::path out = dir / "out";
+        const ProcessResult r = run_command(cli() + " calibrate " + c.args + " --phases 1 -q --out " + sh_quote(out.string()));
+        EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << c.args;
+    }
+}
+
+}  // namespace
+}  // namespace ddmr::test
