@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,8 @@
 #include "common/svg_xy_plot.hpp"
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "hil/elf_image.hpp"
+#include "hil/mcu.hpp"
 #include "plant/param_access.hpp"
 #include "plant/params_yaml.hpp"
 
@@ -48,6 +51,9 @@ struct CalibrateCli {
 
 /// The case all logs come from: --case, else their banners (which must agree).
 int case_of(const CalibrateCli& o, const std::vector<cal::RobotLog>& logs) {
+    if (o.case_number && *o.case_number != 1 && *o.case_number != 2) {
+        throw std::invalid_argument(fmt::format("--case {}: the sketch has cases 1 and 2 only", *o.case_number));
+    }
     std::optional<int> banner;
     for (const cal::RobotLog& l : logs) {
         if (!l.case_number) continue;
@@ -69,6 +75,26 @@ int case_of(const CalibrateCli& o, const std::vector<cal::RobotLog>& logs) {
                                                 c));
     }
     return c;
+}
+
+/// `text` as one CSV field (RFC 4180: quoted when it holds a comma, a quote or a line break).
+std::string csv_field(const std::string& text) {
+    if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+    std::string q = "\"";
+    for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+
+/// A LOG as given: a dump, or an output folder of `run` or `scenario` (its uart.txt).
+fs::path log_file(const std::string& given) {
+    fs::path p(given);
+    if (!fs::is_directory(p)) return p;
+    if (!fs::is_regular_file(p / "uart.txt")) {
+        throw std::invalid_argument(fmt::format("{}: a folder without uart.txt (give a serial dump, or the output "
+                                                "folder of `ddmr-hil run` or of a scenario)",
+                                                given));
+    }
+    return p / "uart.txt";
 }
 
 nlohmann::json metrics_json(const cal::SetScore& s) {
@@ -200,12 +226,34 @@ int run_calibrate(const CalibrateCli& o) {
     };
     // Every input first: nothing is written before they are all good.
     cal::CalibrationSetup setup;
-    for (const std::string& f : o.logs) setup.logs.push_back(cal::read_robot_log(f));
-    for (const std::string& f : o.holdout) setup.holdout_logs.push_back(cal::read_robot_log(f));
+    for (const std::string& f : o.logs) setup.logs.push_back(cal::read_robot_log(log_file(f)));
+    for (const std::string& f : o.holdout) setup.holdout_logs.push_back(cal::read_robot_log(log_file(f)));
     if (o.split && !o.holdout.empty()) throw std::invalid_argument("--split and --hold-out: give one of them");
     std::vector<cal::RobotLog> all = setup.logs;
     all.insert(all.end(), setup.holdout_logs.begin(), setup.holdout_logs.end());
+    {
+        std::vector<std::string> given = o.logs;
+        given.insert(given.end(), o.holdout.begin(), o.holdout.end());
+        std::vector<fs::path> seen;
+        for (const std::string& g : given) {
+            const fs::path c = fs::weakly_canonical(log_file(g));
+            if (std::find(seen.begin(), seen.end(), c) != seen.end()) {
+                throw std::invalid_argument(fmt::format("{}: given twice (a held-out log must not be a fitted one)", g));
+            }
+            seen.push_back(c);
+        }
+    }
     const int case_number = case_of(o, all);
+    // The simulation is as long as the dump; a cut dump (fewer lines than
+    // the case logs) would be compared with the totals of the whole run.
+    const auto expected = static_cast<std::size_t>(std::lround(hostsim::firmware_case(case_number).duration_s * 10.0));
+    for (const cal::RobotLog& l : all) {
+        if (l.samples.size() != expected) {
+            throw std::invalid_argument(fmt::format("{}: {} logged samples; case {} logs {} (one per 0.1 s): is the dump "
+                                                    "cut short?",
+                                                    l.source, l.samples.size(), case_number, expected));
+        }
+    }
     setup.split = o.split;
     if (!o.plant.empty()) setup.start = plant::load_robot_params(o.plant);
     setup.keys = o.fit_keys;
@@ -232,12 +280,23 @@ int run_calibrate(const CalibrateCli& o) {
     setup.stage = say;
     const fs::path out(o.out);
     check_output_dir(out);  // created once the fit has run: a refused input writes nothing
-    if (!o.no_hil && !fs::is_regular_file(o.firmware)) {
-        throw std::invalid_argument(fmt::format("--firmware {}: no such file (build it, or give --no-hil)", o.firmware));
+    if (!o.no_hil) {
+        if (!fs::is_regular_file(o.firmware)) {
+            throw std::invalid_argument(fmt::format("--firmware {}: no such file (build it, or give --no-hil)", o.firmware));
+        }
+        // Read and checked now: a bad ELF is found before the fit, not after it.
+        hil::ElfImage::read(o.firmware).require_mcu(hil::atmega328p_mcu());
     }
 
     const cal::CalibrationResult r = cal::calibrate(setup);
     prepare_output_dir(out);
+    // What an earlier calibration left here and this one would not replace.
+    for (const auto& e : fs::directory_iterator(out)) {
+        const std::string name = e.path().filename().string();
+        if ((name.rfind("xy_", 0) == 0 && e.path().extension() == ".svg") || (name == "hil" && e.is_directory())) {
+            fs::remove_all(e.path());
+        }
+    }
 
     // The tracks, for the plots and tracks.csv.
     say("tracks for the plots");
@@ -248,7 +307,7 @@ int run_calibrate(const CalibrateCli& o) {
         const auto before = track(setup.start, log, setup.objective);
         const auto after = track(r.fitted, log, setup.objective);
         for (std::size_t k = 0; k < logged.size(); ++k) {
-            csv += fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", log.source, k, logged[k].first,
+            csv += fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", csv_field(log.source), k, logged[k].first,
                                logged[k].second, before[k].first, before[k].second, after[k].first, after[k].second);
         }
         const std::string file = "xy_" + slug(log.source, index) + ".svg";
@@ -269,7 +328,18 @@ int run_calibrate(const CalibrateCli& o) {
     j["start_plant"] = o.plant.empty() ? "defaults" : o.plant;
     j["encoder_phases"] = setup.objective.encoder_phases;
     j["period_s"] = setup.objective.base.period_s;
-    j["logs"] = {{"train", log_names(r.train)}, {"holdout", r.holdout.empty() ? "" : log_names(r.holdout)}};
+    const auto names_json = [](const std::vector<cal::LogRun>& runs) {
+        nlohmann::json a = nlohmann::json::array();
+        for (const auto& run : runs) {
+            a.push_back({{"log", run.log.source},
+                         {"first", run.first},
+                         {"end", run.end == 0 ? run.log.samples.size() : run.end}});
+        }
+        return a;
+    };
+    j["logs"] = {{"train", names_json(r.train)}, {"holdout", r.holdout.empty() ? nlohmann::json(nullptr) : names_json(r.holdout)}};
+    j["warnings"] = r.warnings;
+    j["residual_rms_m"] = r.residual_rms_m;
     j["keys_chosen_by_data"] = o.fit_keys.empty();
     nlohmann::json params = nlohmann::json::array();
     for (const cal::FittedParam& p : r.params) {
@@ -278,7 +348,7 @@ int run_calibrate(const CalibrateCli& o) {
                           {"start", p.start},
                           {"value", p.value},
                           {"search", {p.lo, p.hi}},
-                          {"ci95", {p.at_fit.ci_lo, p.at_fit.ci_hi}},
+                          {"ci95", p.at_fit.identifiable ? nlohmann::json{p.at_fit.ci_lo, p.at_fit.ci_hi} : nlohmann::json(nullptr)},
                           {"relative_sd", std::isfinite(p.at_fit.relative_sd) ? nlohmann::json(p.at_fit.relative_sd)
                                                                                : nlohmann::json(nullptr)},
                           {"sensitivity_m", p.at_fit.sensitivity_m},
@@ -300,10 +370,10 @@ int run_calibrate(const CalibrateCli& o) {
         corr.push_back(row);
     }
     j["correlation"] = corr;
-    j["least_squares"] = {{"evaluations", r.least_squares.evaluations}, {"stop", r.least_squares.stop},
+    j["least_squares"] = {{"evaluations", r.least_squares.evaluations}, {"budget", o.lm_evaluations}, {"stop", r.least_squares.stop},
                           {"sum_of_squares_m2", r.least_squares.sum_of_squares}};
     j["fit"] = {{"evaluations", r.fit.evaluations}, {"loss", r.fit.loss}, {"global_loss", r.fit.global_loss},
-                {"global_evaluations", o.global_evaluations}, {"local_evaluations", o.local_evaluations}};
+                {"global_budget", o.global_evaluations}, {"local_budget", o.local_evaluations}};
     j["train"] = metrics_json(r.after_train);
     j["holdout"] = r.after_holdout ? metrics_json(*r.after_holdout) : nlohmann::json(nullptr);
     j["before"] = {{"train", metrics_json(r.before_train)},
@@ -335,15 +405,28 @@ int run_calibrate(const CalibrateCli& o) {
         fo.reference_protocol_required = true;
         fo.plant_file = out / "plant.yaml";
         fo.out_dir = out / "hil";
-        const FirmwareRunResult run = run_firmware(fo);
-        nlohmann::json h = {{"exit", to_string(run.exit)}, {"folder", "hil"}};
-        if (run.exit != RunExit::kReportComplete) {
+        FirmwareRunResult run;
+        std::string failure;
+        std::optional<cal::RobotLog> hil_read;
+        try {
+            run = run_firmware(fo);
+            if (run.exit != RunExit::kReportComplete) {
+                failure = run.message;
+            } else {
+                hil_read = cal::read_robot_log(out / "hil" / "uart.txt");
+            }
+        } catch (const std::exception& e) {
+            failure = e.what();  // the fit's outputs are still written below
+        }
+        nlohmann::json h = {{"exit", failure.empty() ? to_string(run.exit) : "error"}, {"folder", "hil"}};
+        if (!failure.empty()) {
+            run.message = failure;
             exit_code = kExitFirmware;
             h["message"] = run.message;
             hil_md = fmt::format("The HIL run did not complete: {}\n", run.message);
             std::fprintf(stderr, "ddmr-hil calibrate: the HIL confirmation failed: %s\n", run.message.c_str());
         } else {
-            const cal::RobotLog hil_log = cal::read_robot_log(out / "hil" / "uart.txt");
+            const cal::RobotLog& hil_log = *hil_read;
             nlohmann::json per = nlohmann::json::array();
             hil_md = "| log | RMS [mm] | max [mm] | end [mm] | Count1 HIL / log | Count2 HIL / log |\n|---|---|---|---|---|---|\n";
             for (const cal::RobotLog& l : all) {
@@ -371,12 +454,17 @@ int run_calibrate(const CalibrateCli& o) {
                                                    : fmt::format(" Judged on {}.", log_names(r.holdout)));
     md += "## Parameters\n\n| parameter | start | fitted | 95 % interval | unit | pinned down |\n|---|---|---|---|---|---|\n";
     for (const cal::FittedParam& p : r.params) {
-        md += fmt::format("| `{}` | {:.6g} | {:.6g} | [{:.6g}, {:.6g}] | {} | {} |\n", p.key, p.start, p.value,
-                          p.at_fit.ci_lo, p.at_fit.ci_hi, p.unit, p.at_fit.identifiable ? "yes" : "no: " + p.at_fit.reason);
+        md += fmt::format("| `{}` | {:.6g} | {:.6g} | {} | {} | {} |\n", p.key, p.start, p.value,
+                          p.at_fit.identifiable ? fmt::format("[{:.6g}, {:.6g}]", p.at_fit.ci_lo, p.at_fit.ci_hi) : "—",
+                          p.unit, p.at_fit.identifiable ? "yes" : "no: " + p.at_fit.reason);
     }
     if (!r.not_fitted.empty()) {
         md += "\nNot fitted (the logs cannot pin them down; they keep their start values):\n\n";
         for (const auto& [key, why] : r.not_fitted) md += fmt::format("- `{}`: {}\n", key, why);
+    }
+    if (!r.warnings.empty()) {
+        md += "\n**Warnings:**\n\n";
+        for (const std::string& w : r.warnings) md += "- " + w + "\n";
     }
     md += fmt::format("\nSingular values of the scaled sensitivity matrix: {:.3g}.\n",
                       fmt::join(r.identifiability.singular_values, ", "));
@@ -400,10 +488,16 @@ int run_calibrate(const CalibrateCli& o) {
     std::printf("calibrate: case %d, %zu log part(s) fitted, %zu judged; %d + %d evaluations\n", case_number,
                 r.train.size(), r.holdout.size(), r.least_squares.evaluations, r.fit.evaluations);
     for (const cal::FittedParam& p : r.params) {
-        std::printf("  %-40s %10.5g -> %-10.5g [%.5g, %.5g] %s%s\n", p.key.c_str(), p.start, p.value, p.at_fit.ci_lo,
-                    p.at_fit.ci_hi, p.unit, p.at_fit.identifiable ? "" : "  (not pinned down)");
+        if (p.at_fit.identifiable) {
+            std::printf("  %-40s %10.5g -> %-10.5g [%.5g, %.5g] %s\n", p.key.c_str(), p.start, p.value, p.at_fit.ci_lo,
+                        p.at_fit.ci_hi, p.unit);
+        } else {
+            std::printf("  %-40s %10.5g -> %-10.5g not pinned down: %s\n", p.key.c_str(), p.start, p.value,
+                        p.at_fit.reason.c_str());
+        }
     }
     for (const auto& [key, why] : r.not_fitted) std::printf("  not fitted: %s: %s\n", key.c_str(), why.c_str());
+    for (const std::string& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
     std::printf("  fitted part: RMS %.1f mm -> %.1f mm\n", r.before_train.rms_m * 1e3, r.after_train.rms_m * 1e3);
     if (r.after_holdout) {
         std::printf("  held out:    RMS %.1f mm -> %.1f mm, end %.2f %% -> %.2f %%\n", r.before_holdout->rms_m * 1e3,
@@ -423,10 +517,13 @@ Subcommand register_calibrate_command(CLI::App& app) {
         "calibrate",
         "Fit plant parameters to a robot's serial dumps (the reference sketch's report and EEPROM dump), "
         "judge the fit on held-out data and confirm it in the HIL (docs/calibration.md)");
-    sub->add_option("logs", cli->logs, "The robot's serial dumps to fit (case 1: END, Count1, Count2, the EEPROM dump)")
+    sub->add_option("logs", cli->logs,
+                    "The robot's serial dumps to fit (case 1: END, Count1, Count2, the EEPROM dump), or output "
+                    "folders of `run` or `scenario` (their uart.txt)")
         ->required()
-        ->check(CLI::ExistingFile);
-    sub->add_option("--hold-out", cli->holdout, "A dump judged but not fitted (repeatable)")->check(CLI::ExistingFile);
+        ->check(CLI::ExistingPath);
+    sub->add_option("--hold-out", cli->holdout, "A dump (or output folder) judged but not fitted (repeatable)")
+        ->check(CLI::ExistingPath);
     sub->add_option("--split", cli->split, "Fit each log's first fraction F of the samples, judge the rest (0 < F < 1)");
     sub->add_option("--case", cli->case_number, "The case the logs ran (default: their banner; only case 1 logs a track)");
     sub->add_option("--fit", cli->fit_keys,
@@ -436,7 +533,7 @@ Subcommand register_calibrate_command(CLI::App& app) {
     sub->add_option("--plant", cli->plant, "The starting plant (a plant YAML; default: the embedded defaults)")
         ->check(CLI::ExistingFile);
     sub->add_option("--out", cli->out, "Output folder")->capture_default_str();
-    sub->add_option("--seed", cli->seed, "The optimiser's seed")->capture_default_str();
+    sub->add_option("--seed", cli->seed, "The optimiser's seed (>= 0)")->capture_default_str()->check(CLI::NonNegativeNumber);
     sub->add_option("--lm-evals", cli->lm_evaluations,
                     "Evaluations of the least-squares stage (Levenberg-Marquardt on the cells' centres)")
         ->capture_default_str()

@@ -34,6 +34,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/output_folder.hpp"
 #include "common/sim_csv.hpp"
 #include "comparison.hpp"
 #include "exit_codes.hpp"
@@ -94,6 +95,17 @@ LoggedTrack logged_track(const fs::path& dir, const json& summary) {
     return track;
 }
 
+/// `text` quoted for a POSIX shell when it needs it.
+std::string shell_quote(const std::string& text) {
+    if (!text.empty() && text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./-=:,") ==
+                             std::string::npos) {
+        return text;
+    }
+    std::string q = "'";
+    for (const char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
 json metrics_json(const PairMetrics& m) {
     return {{"rms_m", m.rms_m}, {"max_m", m.max_m}, {"endpoint_m", m.endpoint_m},
             {"endpoint_pct", m.endpoint_pct}, {"samples", m.samples}};
@@ -104,16 +116,41 @@ int run_compare(const CompareCli& cli) {
     if (!(cli.tolerance_m > 0.0) || !std::isfinite(cli.tolerance_m)) {
         throw std::invalid_argument(fmt::format("--tolerance-m {}: must be a positive distance in metres", cli.tolerance_m));
     }
+    const FolderKind kind = folder_kind(dir);
+    if (kind != FolderKind::run) {
+        throw std::runtime_error(fmt::format("{}: {}; compare takes the output folder of `ddmr-hil run` (summary.json, "
+                                             "truth.csv, eeprom_log.csv) and runs the simulation itself",
+                                             dir.string(), describe(kind)));
+    }
     json summary;
     {
         std::ifstream in(dir / "summary.json");
-        if (!in) throw std::runtime_error((dir / "summary.json").string() + ": cannot read (is this a ddmr-hil run folder?)");
         try {
             summary = json::parse(in);
         } catch (const json::exception& e) {
             throw std::runtime_error((dir / "summary.json").string() + ": malformed JSON: " + e.what());
         }
     }
+    // The fields compare reads, each with its type: a summary written by
+    // another version, or edited, is one line naming the field.
+    const auto require = [&](const char* key, bool ok, const char* what) {
+        if (!ok) {
+            throw std::runtime_error(fmt::format("{}: \"{}\" is not {} as `ddmr-hil run` writes it", (dir / "summary.json").string(),
+                                                 key, what));
+        }
+    };
+    require("case", summary.contains("case") && (summary["case"].is_number_integer() || summary["case"].is_null()),
+            "a case number");
+    if (summary["case"].is_null()) {
+        throw std::runtime_error(fmt::format("{}: the run had no case (a firmware without a contract); compare needs a "
+                                             "run of the reference firmware's case 1 or 2",
+                                             dir.string()));
+    }
+    require("clock_hz", summary.contains("clock_hz") && summary["clock_hz"].is_number(), "a number");
+    require("ready_cycle", summary.contains("ready_cycle") && (summary["ready_cycle"].is_number() || summary["ready_cycle"].is_null()),
+            "a cycle count");
+    require("eeprom_log_samples", summary.contains("eeprom_log_samples") && summary["eeprom_log_samples"].is_number_integer(),
+            "a sample count");
     const int test_case = summary.at("case").get<int>();
     const LoggedTrack log = logged_track(dir, summary);
     const auto truth_path = dir / "truth.csv";
@@ -171,6 +208,12 @@ int run_compare(const CompareCli& cli) {
     for (const char* name : hs::fidelity_switch_names()) attribute(name, hs::Fidelity::parse(name));
     attribute("all (firmware model)", hs::Fidelity::all());
 
+    // The `sim` command line that writes the same sim.csv (the same case,
+    // model, plant, PWM model and duration; the period is sim's default).
+    std::string sim_command = fmt::format("ddmr-hil sim --model {} --case {} --pwm {} --duration {:.2f}", hs::to_string(model),
+                                          test_case, hs::to_string(base.pwm), base.duration_s);
+    if (plant_file != "(embedded defaults)") sim_command += " --plant " + shell_quote(plant_file);
+    sim_command += " --out " + shell_quote((dir / "sim-reproduced").string());
     const bool pass = log_sim.rms_m <= cli.tolerance_m;
     json out = {
         {"run_dir", dir.string()},
@@ -185,6 +228,7 @@ int run_compare(const CompareCli& cli) {
                    {"truth_vs_sim", metrics_json(truth_sim)}}},
         {"ideal_baseline", metrics_json(ideal_m)},
         {"attribution", attribution},
+        {"sim_command", sim_command},
         {"tolerance_m", cli.tolerance_m},
         {"check", "log_vs_sim.rms_m <= tolerance_m"},
         {"pass", pass},
@@ -206,6 +250,7 @@ int run_compare(const CompareCli& cli) {
         std::printf("  %-22s endpoint %+.4f m   rms %+.4f m\n", row["switch"].get<std::string>().c_str(),
                     row["endpoint_change_m"].get<double>(), row["rms_change_m"].get<double>());
     }
+    std::printf("\nthe simulation (sim.csv), reproduced: %s\n", sim_command.c_str());
     std::printf("\n%s: log vs %s simulation rms %.4f m %s tolerance %.4f m; wrote %s\n", pass ? "PASS" : "FAIL",
                 hs::to_string(model), log_sim.rms_m, pass ? "<=" : ">", cli.tolerance_m,
                 (dir / "compare.json").string().c_str());
@@ -227,7 +272,15 @@ Subcommand register_compare_command(CLI::App& app) {
     sub->add_option("--tolerance-m", cli->tolerance_m,
                     "Largest RMS distance between the firmware's log and the simulation [m]")
         ->capture_default_str();
-    return Subcommand{sub, [cli]() { return run_compare(*cli); }};
+    return Subcommand{sub, [cli]() {
+        try {
+            return run_compare(*cli);
+        } catch (const json::exception& e) {
+            // A field of the right name and the wrong shape: one line, not the library's code.
+            throw std::runtime_error(fmt::format("{}: summary.json is not as `ddmr-hil run` writes it ({})",
+                                                 cli->run_dir, e.what()));
+        }
+    }};
 }
 
 }  // namespace ddmr::tools

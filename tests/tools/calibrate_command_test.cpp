@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "plant/params_yaml.hpp"
@@ -67,6 +68,9 @@ TEST(CalibrateCommand, WritesThePlantTheScoresTheReportAndConfirmsInTheHil) {
     EXPECT_TRUE(j["holdout"]["count1"].is_number());
     EXPECT_EQ(j["holdout"]["logged_count1"].get<uint64_t>() > 0, true);
     EXPECT_EQ(j["hil"]["exit"], "report_complete");
+    EXPECT_EQ(j["logs"]["train"][0]["end"], 60);
+    EXPECT_EQ(j["logs"]["holdout"][0]["first"], 60);
+    EXPECT_TRUE(j["warnings"].is_array());
     EXPECT_TRUE(fs::exists(out / "hil" / "uart.txt"));
 
     const std::string md = read_text(out / "report.md");
@@ -76,14 +80,29 @@ TEST(CalibrateCommand, WritesThePlantTheScoresTheReportAndConfirmsInTheHil) {
     EXPECT_EQ(read_text(out / "tracks.csv").rfind("log,sample,logged_x_m,logged_y_m,before_x_m,", 0), 0U);
 }
 
+// The second run names the log by its folder (a `run` output folder): the same log, the same outputs.
 TEST(CalibrateCommand, RerunIsByteIdentical) {
     TempDir dir;
     for (const char* sub : {"a", "b"}) {
-        const ProcessResult r = run_command(cli() + " calibrate " + sh_quote(robot_log().string()) + kTiny +
+        const fs::path log = sub[0] == 'a' ? robot_log() : robot_log().parent_path();
+        const ProcessResult r = run_command(cli() + " calibrate " + sh_quote(log.string()) + kTiny +
                                             " --no-hil --out " + sh_quote((dir / sub).string()));
         ASSERT_EQ(r.exit_code, 0) << r.err;
     }
     EXPECT_EQ(file_tree(dir / "a"), file_tree(dir / "b"));
+}
+
+/// The robot's dump cut short: its first 9 lines (banner, END, the counts,
+/// the report), no addr, then the first `samples` dump lines and one more
+/// (the unwritten byte).
+std::string cut_dump(std::size_t samples) {
+    std::istringstream in(read_text(robot_log()));
+    std::string out;
+    std::size_t n = 0;
+    for (std::string line; std::getline(in, line); ++n) {
+        if (n < 9 || (n >= 10 && n < 10 + samples + 1)) out += line + "\n";
+    }
+    return out;
 }
 
 TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
@@ -91,6 +110,7 @@ TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
     const fs::path bad_log = dir / "bad.txt";
     {
         std::ofstream(bad_log) << "0.6m\n1 , 2\n";
+        std::ofstream(dir / "cut.txt") << cut_dump(50);
     }
     const std::string log = sh_quote(robot_log().string());
     const struct {
@@ -104,6 +124,12 @@ TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
         {log + " --case 2", "its banner says case 1, --case says 2"},
         {log + " --split 0.5 --hold-out " + log, "--split and --hold-out: give one of them"},
         {sh_quote(bad_log.string()), "bad.txt"},
+        {sh_quote(dir.path().string()), "a folder without uart.txt"},
+        {log + " --hold-out " + log, "given twice (a held-out log must not be a fitted one)"},
+        {log + " --case 0", "--case 0: the sketch has cases 1 and 2 only"},
+        {sh_quote((dir / "cut.txt").string()), "cut.txt: 50 logged samples; case 1 logs 120 (one per 0.1 s)"},
+        {log + " --firmware " + log, "uart.txt"},  // not an ELF: refused before the fit
+        {log + " --seed -1", "--seed"},
     };
     for (const auto& c : cases) {
         const fs::path out = dir / "out";

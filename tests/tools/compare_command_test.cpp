@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -59,6 +60,14 @@ TEST(CompareCommand, Case1AgainstTheFirmwareModel) {
     EXPECT_GE(c["attribution"].size(), 6u);
     EXPECT_EQ(c["attribution"].back()["switch"], "all (firmware model)");
     EXPECT_TRUE(std::filesystem::exists(run / "sim.csv"));
+
+    // Issue 19: the `sim` command line printed with it writes the same sim.csv, byte for byte.
+    const std::string command = c["sim_command"].get<std::string>();
+    ASSERT_EQ(command.rfind("ddmr-hil sim --model firmware --case 1 --pwm switched --duration 12.05 ", 0), 0U) << command;
+    EXPECT_NE(r.out.find(command), std::string::npos) << r.out;
+    const auto sim = run_command(cli() + command.substr(std::string("ddmr-hil").size()));
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    EXPECT_EQ(read_text(run / "sim-reproduced" / "sim.csv"), read_text(run / "sim.csv"));
 }
 
 TEST(CompareCommand, DistortedLogFails) {
@@ -94,7 +103,38 @@ TEST(CompareCommand, MissingRunFolderIsAnError) {
     TempDir dir;
     const auto r = run_command(cli() + " compare " + sh_quote((dir / "nothing").string()));
     EXPECT_EQ(r.exit_code, 2);
-    EXPECT_NE(r.err.find("summary.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("nothing: no such folder; compare takes the output folder of `ddmr-hil run`"), std::string::npos)
+        << r.err;
+}
+
+// Issue 19, item 6: another command's folder, or a run summary of the wrong
+// shape, is one line saying what the folder is; never the JSON library's code.
+TEST(CompareCommand, AnotherCommandsFolderIsNamed) {
+    TempDir dir;
+    const auto sim = run_command(cli() + " sim --model firmware --duration 0.5 --out " + sh_quote((dir / "sim").string()));
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    auto r = run_command(cli() + " compare " + sh_quote((dir / "sim").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("sim: a `ddmr-hil sim` output folder; compare takes the output folder of `ddmr-hil run`"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("json.exception"), std::string::npos) << r.err;
+    // A run folder whose summary has a field of the wrong type.
+    std::filesystem::copy(case1_run(), dir / "edited");
+    json summary = json::parse(read_text(dir / "edited" / "summary.json"));
+    summary["case"] = "one";
+    std::ofstream(dir / "edited" / "summary.json") << summary.dump();
+    r = run_command(cli() + " compare " + sh_quote((dir / "edited").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("summary.json: \"case\" is not a case number as `ddmr-hil run` writes it"), std::string::npos)
+        << r.err;
+    summary["case"] = 1;
+    summary["pwm"] = 3;
+    std::ofstream(dir / "edited" / "summary.json") << summary.dump();
+    r = run_command(cli() + " compare " + sh_quote((dir / "edited").string()));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("summary.json is not as `ddmr-hil run` writes it"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
 TEST(CompareCommand, BadToleranceIsAnError) {

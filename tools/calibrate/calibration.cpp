@@ -130,7 +130,19 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
     const std::vector<std::string>& candidates = chosen_by_data ? default_candidate_keys() : setup.keys;
     plant::RobotParams scratch = setup.start;
     std::vector<double> start_values;
+    std::vector<std::string> candidate_list;
     for (const std::string& key : candidates) {
+        // A default candidate at 0 in the starting plant (no friction, an
+        // ideal driver) is left out, not an error: there is nothing to scale.
+        if (chosen_by_data) {
+            const auto ref = plant::find_param(scratch, key);
+            if (!(*ref->value > 0.0)) {
+                out.not_fitted.emplace_back(key, fmt::format("it is {} in the starting plant: a fit searches around a "
+                                                             "positive start (set one with --plant, or --fit it)",
+                                                             *ref->value));
+                continue;
+            }
+        }
         if (std::count(candidates.begin(), candidates.end(), key) > 1) {
             throw std::invalid_argument(fmt::format("--fit {}: given twice", key));
         }
@@ -146,11 +158,13 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
                                                     key, *ref->value));
         }
         start_values.push_back(*ref->value);
+        candidate_list.push_back(key);
     }
 
     // What the fitted logs show of each candidate, at the start.
-    say(setup, fmt::format("sensitivities of {} parameter(s) at the start ({} simulations)", candidates.size(),
-                           2 * candidates.size() * out.train.size() * setup.objective.encoder_phases.size()));
+    if (candidate_list.empty()) throw std::runtime_error("no candidate parameter is positive in the starting plant");
+    say(setup, fmt::format("sensitivities of {} parameter(s) at the start ({} simulations)", candidate_list.size(),
+                           2 * candidate_list.size() * out.train.size() * setup.objective.encoder_phases.size()));
     const auto predict = [&](const std::vector<std::string>& keys) {
         return [&setup, &out, keys](const std::vector<double>& v) {
             return predict_all(with_values(setup.start, keys, v), out.train, setup.objective);
@@ -158,20 +172,25 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
     };
     // The same step as the least squares' Jacobian: small steps see the encoders' jumps.
     const double step = setup.least_squares.relative_step;
-    const Eigen::MatrixXd s0 = sensitivity_matrix(predict(candidates), start_values, step);
+    const Eigen::MatrixXd s0 = sensitivity_matrix(predict(candidate_list), start_values, step);
     std::vector<std::string> keys;
     if (chosen_by_data) {
-        const Selection sel = select_identifiable(s0, candidates, start_values, setup.max_half_width, log_noise_m(),
+        const Selection sel = select_identifiable(s0, candidate_list, start_values, setup.max_half_width, log_noise_m(),
                                                   setup.model_tolerance_m);
-        for (const std::size_t j : sel.chosen) keys.push_back(candidates[j]);
-        for (const auto& l : sel.left_out) out.not_fitted.emplace_back(candidates[l.index], l.reason);
+        for (const std::size_t j : sel.chosen) keys.push_back(candidate_list[j]);
+        for (const auto& l : sel.left_out) out.not_fitted.emplace_back(candidate_list[l.index], l.reason);
         if (keys.empty()) throw std::runtime_error("the logs pin down none of the plant's parameters");
     } else {
-        const Identifiability a = analyse_sensitivities(s0, candidates, start_values, log_noise_m(), setup.model_tolerance_m);
+        const Identifiability a = analyse_sensitivities(s0, candidate_list, start_values, log_noise_m(), setup.model_tolerance_m);
         for (const ParamIdentifiability& p : a.params) {
-            if (!p.identifiable) throw UnidentifiableParameter(fmt::format("--fit {}: {}", p.key, p.reason));
+            if (p.identifiable) continue;
+            const bool phase = p.key.size() > 14 && p.key.compare(p.key.size() - 14, 14, ".initial_phase") == 0;
+            throw UnidentifiableParameter(fmt::format("--fit {}: {}", p.key,
+                                                      phase ? "the fit averages over the encoder phases (--phases) "
+                                                              "instead of fitting them"
+                                                            : p.reason));
         }
-        keys = candidates;
+        keys = candidate_list;
     }
 
     std::vector<FitParam> box;
@@ -212,9 +231,34 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
     out.fit = fit(box, loss, setup.fit);
     out.fitted = with_values(setup.start, keys, out.fit.values);
 
+    // The noise the intervals assume: the quantisation's, or the fit's own
+    // residual when that is larger (a fit that does not reach the cells
+    // cannot claim the cells' precision).
+    double residual_ss = 0.0;
+    const std::vector<double> final_residuals = residuals(out.fit.values);
+    for (const double x : final_residuals) residual_ss += x * x;
+    out.residual_rms_m = std::sqrt(residual_ss / static_cast<double>(final_residuals.size()));
+    const double sigma = std::max(log_noise_m(), out.residual_rms_m);
     say(setup, "intervals at the fitted point");
-    out.identifiability =
-        analyse_identifiability(predict(keys), keys, out.fit.values, log_noise_m(), step, setup.model_tolerance_m);
+    out.identifiability = analyse_identifiability(predict(keys), keys, out.fit.values, sigma, step, setup.model_tolerance_m);
+    if (out.least_squares.stop == "the evaluation budget is spent") {
+        out.warnings.push_back(fmt::format("the least-squares stage spent its budget ({} evaluations) before it "
+                                           "converged: give a larger --lm-evals",
+                                           out.least_squares.evaluations));
+    }
+    if (out.residual_rms_m > 2.0 * log_noise_m()) {
+        out.warnings.push_back(fmt::format("the fitted plant stays {:.1f} mm RMS from the log's cells' centres (the "
+                                           "quantisation alone gives {:.1f} mm): the model or the start is off, and "
+                                           "the intervals are widened by it",
+                                           out.residual_rms_m * 1e3, log_noise_m() * 1e3));
+    }
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const FitParam& b = box[i];
+        const double v = out.fit.values[i];
+        if (v <= b.lo * (1.0 + 1e-6) || v >= b.hi * (1.0 - 1e-6)) {
+            out.warnings.push_back(fmt::format("{} = {:.6g} is at its search bound [{:.6g}, {:.6g}]", keys[i], v, b.lo, b.hi));
+        }
+    }
     for (std::size_t i = 0; i < keys.size(); ++i) {
         out.params[i].value = out.fit.values[i];
         out.params[i].at_fit = out.identifiability.params[i];

@@ -110,6 +110,12 @@ struct CalibrationResult {
     std::vector<LogRun> train, holdout;
     SetScore before_train, after_train;
     std::optional<SetScore> before_holdout, after_holdout;  ///< when something is held out
+    /// RMS of the fitted plant's least-squares residuals (distances to the
+    /// cells' centres) [m]; the intervals assume max(this, the quantisation's sigma).
+    double residual_rms_m = 0.0;
+    /// What a user should know about the fit, one sentence each (a spent
+    /// budget, a value at its search bound, a residual above the quantisation).
+    std::vector<std::string> warnings;
 };
 
 /// A --fit key the logs cannot see (what() names it and says why, one line).

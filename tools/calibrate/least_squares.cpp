@@ -59,9 +59,17 @@ struct Problem : Eigen::DenseFunctor<double> {
 
     int operator()(const InputType& z, ValueType& f) { return eval(z, f) ? 0 : -1; }
 
-    int df(const InputType& z, JacobianType& j) {
+    int df(const InputType& z_in, JacobianType& j) {
         const double h = options->relative_step;
         j.resize(values(), inputs());
+        // Around the point as evaluated (clamped into the box): beyond a
+        // bound the residuals do not change, and a zero column would keep
+        // the parameter out there.
+        InputType z = z_in;
+        for (Eigen::Index c = 0; c < inputs(); ++c) {
+            const FitParam& p = (*params)[static_cast<std::size_t>(c)];
+            z(c) = std::clamp(z(c), std::log(p.lo), std::log(p.hi));
+        }
         ValueType up, down;
         for (Eigen::Index c = 0; c < inputs(); ++c) {
             InputType zu = z;
