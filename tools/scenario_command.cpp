@@ -131,8 +131,28 @@ int run_suite(const ScenarioCli& cli) {
         }
         scenarios = std::move(mine);
     }
+    // Every output path too: a --junit that cannot be written is found now,
+    // not after the suite ran and its verdict was printed.
+    if (!cli.junit.empty()) {
+        try {
+            check_output_file(cli.junit);
+        } catch (const std::exception& e) {
+            throw std::invalid_argument(fmt::format("--junit {}: {}", cli.junit, e.what()));
+        }
+    }
     const fs::path out = cli.out_dir;
     prepare_output_dir(out);
+    // A scenario folder from an earlier run into this --out that this suite
+    // would not rewrite (a scenario since renamed or removed) would read as
+    // one of its results: removed.
+    for (const auto& e : fs::directory_iterator(out)) {
+        if (e.is_directory() && fs::exists(e.path() / "result.json") &&
+            std::find(suite_names.begin(), suite_names.end(), e.path().filename().string()) == suite_names.end()) {
+            fs::remove_all(e.path());
+            std::fprintf(stderr, "ddmr-hil scenario: removed %s (an earlier run's scenario, not in this suite)\n",
+                         e.path().string().c_str());
+        }
+    }
     const std::string exe = self_exe();
 
     struct Running {
@@ -150,13 +170,18 @@ int run_suite(const ScenarioCli& cli) {
         fs::remove(dir / "result.json");
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
+        if (cli.progress) {
+            args.emplace_back("--progress");
+            std::fprintf(stderr, "  start %s (%s)\n", s.name.c_str(), s.file.string().c_str());
+        }
         pid_t pid = 0;
         const int rc = spawn_redirected(std::move(args), dir / "stdout.txt", dir / "stderr.txt", pid);
         if (rc != 0) throw std::runtime_error(fmt::format("cannot start a worker for {}: {}", s.file.string(), std::strerror(rc)));
         running[pid] = {i, std::chrono::steady_clock::now(), false};
     };
-    std::fprintf(stderr, "ddmr-hil scenario: %zu scenario(s), %u worker(s), results in %s\n", scenarios.size(), jobs,
-                 out.string().c_str());
+    const std::size_t workers = std::min<std::size_t>(jobs, scenarios.size());
+    std::fprintf(stderr, "ddmr-hil scenario: %zu scenario%s on %zu worker%s, results in %s\n", scenarios.size(),
+                 scenarios.size() == 1 ? "" : "s", workers, workers == 1 ? "" : "s", out.string().c_str());
     while (next < scenarios.size() || !running.empty()) {
         while (next < scenarios.size() && running.size() < jobs) launch(next++);
         int status = 0;
@@ -187,6 +212,13 @@ int run_suite(const ScenarioCli& cli) {
                                               scenarios[i].file.string(), cli.wall_timeout_s);
         }
         const auto& r = *results[i];
+        if (cli.progress) {
+            // The worker's step-by-step progress, as it wrote it.
+            std::ifstream steps(out / scenarios[i].name / "stderr.txt");
+            for (std::string line; std::getline(steps, line);) {
+                if (line.rfind("  [", 0) == 0) std::fprintf(stderr, "%s\n", line.c_str());
+            }
+        }
         std::fprintf(stderr, "  done %-28s %s (%.1f s wall)\n", r.name.c_str(), sc::to_string(r.verdict), wall);
     }
 
@@ -225,7 +257,7 @@ Subcommand register_scenario_command(CLI::App& app) {
                     "reported as a timeout (exit 3). Each scenario's own `timeout:` limits simulated time")
         ->check(CLI::Range(1.0, 1e6))
         ->capture_default_str();
-    sub->add_flag("--progress", cli->progress, "Print each step as it finishes (worker mode)");
+    sub->add_flag("--progress", cli->progress, "Print each scenario as it starts, and its steps with their times as it ends");
     sub->add_flag("--worker", cli->worker, "Run one scenario in this process (used by the suite runner)")
         ->group("");  // hidden
     return {sub, [cli] { return cli->worker ? run_worker(*cli) : run_suite(*cli); }};

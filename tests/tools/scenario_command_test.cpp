@@ -253,13 +253,62 @@ steps:
     EXPECT_NE(xml.find("<testcase name=\"unknown_case\""), std::string::npos) << xml;
 }
 
-TEST(ScenarioCommand, TheScenarioTimeoutIsAFirmwareVerdict) {
+// Issue 19, item 5: a wait-serial that runs into the scenario's timeout is
+// "the text never came" (a failure, exit 1, with what did come), not a
+// firmware error; a step that is not waiting for anything and runs past the
+// timeout is the scenario's timeout (exit 3). expect-serial failures show the
+// received text's end, escaped.
+TEST(ScenarioCommand, AWaitSerialIntoTheTimeoutIsTheTextNeverCame) {
     TempDir dir;
     const auto f = write(dir, "slow.yaml", "name: slow\ntimeout: 1s\nsteps:\n  - wait-serial: \"END\"\n");
-    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const std::string m = result_of(dir / "out/slow")["message"].get<std::string>();
+    EXPECT_NE(m.find("'END' never came: the scenario's timeout (1 simulated s) came first; received "), std::string::npos)
+        << m;
+    EXPECT_NE(m.find("ending '"), std::string::npos) << m;
+    const auto d = write(dir, "long.yaml", "name: long\ntimeout: 1s\nsteps:\n  - delay: 2s\n");
+    r = scenario(sh_quote(d.string()) + " --out " + sh_quote((dir / "out2").string()));
     EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
-    EXPECT_NE(result_of(dir / "out/slow")["message"].get<std::string>().find("timeout after 1 simulated s"),
+    EXPECT_NE(result_of(dir / "out2/long")["message"].get<std::string>().find("timeout after 1 simulated s"),
               std::string::npos);
+    // The sketch prints its banner and waits: expect-serial shows it, \r\n escaped.
+    const auto e = write(dir, "es.yaml", "name: es\ntimeout: 2s\nsteps:\n  - delay: 1s\n  - expect-serial: \"NOPE\"\n");
+    r = scenario(sh_quote(e.string()) + " --out " + sh_quote((dir / "out3").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const std::string em = result_of(dir / "out3/es")["message"].get<std::string>();
+    EXPECT_NE(em.find("expected the output to match /NOPE/; it does not: received "), std::string::npos) << em;
+    EXPECT_EQ(em.find('\r'), std::string::npos) << em;
+}
+
+// Issue 19, item 5: the suite's own outputs. A --junit that cannot be written
+// is refused before anything runs; results.json counts the failures; a
+// folder an earlier run left for a scenario not in this suite is removed;
+// --progress shows each scenario's steps; the first line reads naturally.
+TEST(ScenarioCommand, TheSuitesOutputsAreCheckedCountedAndFresh) {
+    TempDir dir;
+    const auto ok = write(dir, "ok.yaml", "name: ok\ntimeout: 1s\nsteps:\n  - delay: 1ms\n");
+    const auto bad = write(dir, "bad.yaml", "name: bad\ntimeout: 1s\nsteps:\n  - expect-serial: \"NOPE\"\n");
+    auto r = scenario(sh_quote(ok.string()) + " --junit " + sh_quote((dir / "nowhere" / "j.xml").string()) + " --out " +
+                      sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("--junit "), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+    EXPECT_EQ(r.out.find("PASS"), std::string::npos) << r.out;
+
+    std::filesystem::create_directories(dir / "out" / "gone");
+    std::ofstream(dir / "out" / "gone" / "result.json") << "{}";
+    r = scenario(sh_quote(ok.string()) + " " + sh_quote(bad.string()) + " -j 1 --progress --out " +
+                 sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    const json results = json::parse(read_text(dir / "out" / "results.json"));
+    EXPECT_EQ(results["passed"], 1);
+    EXPECT_EQ(results["failed"], 1);
+    EXPECT_EQ(results["errors"], 0);
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "gone"));
+    EXPECT_NE(r.err.find("2 scenarios on 1 worker, results in"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("  start ok ("), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("  [bad] FAIL line 4 expect-serial"), std::string::npos) << r.err;
 }
 
 TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
@@ -276,6 +325,29 @@ TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
                               sh_quote((dir / "out").string()));
     EXPECT_EQ(dup.exit_code, 2);
     EXPECT_NE(dup.err.find("is used twice"), std::string::npos) << dup.err;
+}
+
+// Issue 19, item 5: a variable the firmware does not have, or one whose size
+// needs a type, is bad input found before the run (exit 2, nothing run), not
+// a failed check after it (exit 1 reads as a firmware regression in CI).
+TEST(ScenarioCommand, ExpectVarNamesAreCheckedBeforeTheRun) {
+    TempDir dir;
+    const struct {
+        const char* step;
+        const char* message;
+    } cases[] = {
+        {"{name: NoSuchVar, value: 1}", "v.yaml:4: expect-var: the firmware has no symbol 'NoSuchVar'"},
+        {"{name: Ex, value: 1}", "v.yaml:4: expect-var: 'Ex' has 4 bytes: give its type"},
+        {"{name: Ex, type: int16, value: 1}", "v.yaml:4: expect-var: 'Ex' is 4 bytes; int16 is 2"},
+        {"{name: main, value: 1}", "v.yaml:4: expect-var: 'main' is not a variable in SRAM"},
+    };
+    for (const auto& c : cases) {
+        const auto f = write(dir, "v.yaml", std::string("name: v\ntimeout: 1s\nsteps:\n  - expect-var: ") + c.step + "\n");
+        const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+        EXPECT_EQ(r.exit_code, 2) << c.step << r.out << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.step << "\n" << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir / "out")) << c.step;
+    }
 }
 
 TEST(ScenarioCommand, ExpectNoTornReadsNamesTheTornVariables) {

@@ -247,6 +247,7 @@ private:
             if (done && done()) return true;
             if (core().cycle() >= target) return false;
             if (core().cycle() >= s_.timeout) {
+                timed_out_ = true;
                 throw StepFailed{Verdict::kFirmware,
                                  fmt::format("timeout after {} simulated s (the scenario's timeout)", seconds(s_.timeout))};
             }
@@ -293,20 +294,34 @@ private:
         if (bytes != w.text) return fmt::format("the firmware's receiver made {} byte(s) of it", bytes.size());
         return {};
     }
+    /// "received N bytes (M framing errors), ending '...'": the last 60
+    /// received characters, escaped (\r, \n shown as such).
+    std::string received_tail() const {
+        const std::string_view seen = text_.view();
+        const std::string tail = seen.size() > 60 ? "..." + std::string(seen.substr(seen.size() - 60)) : std::string(seen);
+        return fmt::format("received {} bytes ({} framing errors), ending '{}'", text_.size(), adapter_->framing_errors(),
+                           printable(tail));
+    }
     std::string run_step(const WaitSerial& w) {
         const Cycles start = core().cycle();
         wait_text_ = w.text;
         const Cycles end = w.timeout == 0 ? kNever : start + w.timeout;
-        const bool found = advance(end, [&] { return text_.find(w.text, cursor_).has_value(); });
+        bool found = false;
+        try {
+            found = advance(end, [&] { return text_.find(w.text, cursor_).has_value(); });
+        } catch (const StepFailed&) {
+            wait_text_.reset();
+            // The scenario's timeout while waiting: the text never came (a
+            // failed expectation, with what did come), not a firmware error.
+            if (!timed_out_) throw;
+            throw StepFailed{Verdict::kFail, fmt::format("'{}' never came: the scenario's timeout ({} simulated s) came "
+                                                         "first; {}",
+                                                         printable(w.text), seconds(s_.timeout), received_tail())};
+        }
         wait_text_.reset();
         if (!found) {
-            const std::string_view seen = text_.view();
-            const std::string tail =
-                seen.size() > 60 ? "..." + std::string(seen.substr(seen.size() - 60)) : std::string(seen);
-            throw StepFailed{Verdict::kFail,
-                             fmt::format("expected '{}' within {:.3f} s; received {} bytes ({} framing errors), ending '{}'",
-                                         w.text, seconds(w.timeout), text_.size(), adapter_->framing_errors(),
-                                         printable(tail))};
+            throw StepFailed{Verdict::kFail, fmt::format("expected '{}' within {:.3f} s; {}", printable(w.text),
+                                                         seconds(w.timeout), received_tail())};
         }
         cursor_ = *text_.find(w.text, cursor_) + w.text.size();
         return {};
@@ -323,8 +338,8 @@ private:
     std::string run_step(const ExpectSerial& e) {
         const std::string_view seen = text_.view();  // the last kSerialWindowBytes
         if (!std::regex_search(seen.begin(), seen.end(), std::regex(e.pattern))) {
-            throw StepFailed{Verdict::kFail, fmt::format("expected the output to match /{}/; it does not ({} bytes)",
-                                                         e.pattern, text_.size())};
+            throw StepFailed{Verdict::kFail, fmt::format("expected the output to match /{}/; it does not: {}",
+                                                         printable(e.pattern), received_tail())};
         }
         return {};
     }
@@ -735,6 +750,7 @@ private:
     std::optional<AtomicFileWriter> uart_txt_;
     std::string unsent_;  ///< written before the firmware enabled its receiver
     uint64_t cursor_ = 0;  ///< position in the received text after the previous wait-serial's match
+    bool timed_out_ = false;  ///< the scenario's timeout was reached
     std::optional<std::string> wait_text_;
     std::vector<std::pair<std::string, std::regex>> fail_patterns_;
     Halt halt_ = Halt::kNone;
@@ -749,6 +765,32 @@ private:
 void check_firmware_names(const Scenario& s) {
     const auto elf = hil::ElfImage::read(s.firmware);
     const hil::DataObjects objects(elf, *hil::board_description(s.board.model).mcu);
+    const hil::McuDescription& mcu = *hil::board_description(s.board.model).mcu;
+    // expect-var: a variable in SRAM whose size the type (given, or by size) matches.
+    for (const Step& step : s.steps) {
+        const auto* e = std::get_if<ExpectVar>(&step.action);
+        if (e == nullptr) continue;
+        const std::string where = fmt::format("{}:{}: expect-var: ", s.file.string(), step.line);
+        const auto sym = elf.find(e->name);
+        if (!sym) {
+            throw std::invalid_argument(where + fmt::format("the firmware has no symbol '{}' (not a global, or folded "
+                                                            "away by LTO)",
+                                                            e->name));
+        }
+        if (!sym->is_object || sym->address < mcu.sram_start || sym->address + sym->size - 1 > mcu.ram_end) {
+            throw std::invalid_argument(where + fmt::format("'{}' is not a variable in SRAM", e->name));
+        }
+        if (!e->type) {
+            if (!hil::default_var_type(sym->size, hil::FourByteDefault::kNone)) {
+                throw std::invalid_argument(where + fmt::format("'{}' has {} bytes: give its type (type: int32, uint32 or "
+                                                                "float)",
+                                                                e->name, sym->size));
+            }
+        } else if (hil::var_type_size(*e->type) != sym->size) {
+            throw std::invalid_argument(where + fmt::format("'{}' is {} bytes; {} is {}", e->name, sym->size,
+                                                            hil::to_string(*e->type), hil::var_type_size(*e->type)));
+        }
+    }
     // Variables named by expect-no-torn-reads must be multi-byte variables in SRAM.
     for (const Step& step : s.steps) {
         const auto* e = std::get_if<ExpectNoTornReads>(&step.action);

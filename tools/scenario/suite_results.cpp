@@ -64,7 +64,11 @@ json suite_results_json(const std::vector<ScenarioResult>& results) {
     }
     const auto passed = std::count_if(results.begin(), results.end(),
                                       [](const ScenarioResult& r) { return r.verdict == Verdict::kPass; });
-    return json{{"scenarios", list}, {"passed", passed}, {"total", results.size()}};
+    const auto failed = std::count_if(results.begin(), results.end(),
+                                      [](const ScenarioResult& r) { return r.verdict == Verdict::kFail; });
+    const auto errors = std::count_if(results.begin(), results.end(),
+                                      [](const ScenarioResult& r) { return r.verdict == Verdict::kFirmware; });
+    return json{{"scenarios", list}, {"passed", passed}, {"failed", failed}, {"errors", errors}, {"total", results.size()}};
 }
 
 int suite_exit_code(const std::vector<ScenarioResult>& results) {
