@@ -562,16 +562,21 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const auto t_index = static_cast<std::size_t>(
         std::find_if(traced.begin(), traced.end(), [&](const auto& v) { return v.name == loop_marker->name; }) -
         traced.begin());
+    // A control-loop iteration is an increase of the marker: one definition
+    // for loop_iterations, firmware.csv's rows (its `iteration` column counts
+    // them from 1) and the loop period. A change that is not an increase
+    // (the reference sketch zeroes t after its report) is no iteration and
+    // has no row.
     if (tracer) tracer->set_sink([&](Cycles cycle, const std::vector<double>& values) {
-        row.clear();
-        fmt::format_to(std::back_inserter(row), "{},{},{:.7f}", tracer->iterations(), cycle,
-                       hil::cycles_to_s(cycle, core.clock_hz()));
-        for (double v : values) fmt::format_to(std::back_inserter(row), ",{:.9g}", v);
-        row.push_back('\n');
-        firmware_csv->write(row);
         const double t = values[t_index];
         if (t > last_t) {
             ++loop_iterations;
+            row.clear();
+            fmt::format_to(std::back_inserter(row), "{},{},{:.7f}", loop_iterations, cycle,
+                           hil::cycles_to_s(cycle, core.clock_hz()));
+            for (double v : values) fmt::format_to(std::back_inserter(row), ",{:.9g}", v);
+            row.push_back('\n');
+            firmware_csv->write(row);
             if (vcd) vcd->mark_loop_iteration(cycle);
             if (have_last) {
                 period_sum += cycle - last_iteration_cycle;

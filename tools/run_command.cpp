@@ -216,10 +216,12 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         }
         const auto& rep = r.report;
         if (r.has_report) {
+            // The report's dump has one line more than the log has samples
+            // (its last line, j = addr, is a byte the run never wrote).
             std::printf("firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
-                        "theta %.4f rad, %zu EEPROM points\n",
+                        "theta %.4f rad, %zu EEPROM log samples\n",
                         rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
-                        rep.ey.value_or(0), rep.theta.value_or(0), rep.eeprom_pairs.size());
+                        rep.ey.value_or(0), rep.theta.value_or(0), r.eeprom_log_samples);
         } else if (r.end_pose_firmware) {
             std::printf("firmware pose estimate: (%.4f, %.4f) m, theta %.4f rad; %zu EEPROM log samples\n",
                         r.end_pose_firmware->x_m, r.end_pose_firmware->y_m, r.end_pose_firmware->theta_rad,
@@ -240,8 +242,11 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                 sum_period += it.period();
             }
             const double n = static_cast<double>(r.loop_profile.size());
-            std::printf("loop profile: %zu iterations, compute mean %.1f us (max %.1f us), period mean %.3f ms "
-                        "(max %.3f ms); details in loop_profile.csv and summary.json\n",
+            // The first iteration after the profiler is armed has no start
+            // (hil/loop_profiler.hpp): one fewer than loop_iterations.
+            std::printf("loop profile: %zu iterations measured (all but the first, which has no start), compute "
+                        "mean %.1f us (max %.1f us), period mean %.3f ms (max %.3f ms); details in loop_profile.csv "
+                        "and summary.json\n",
                         r.loop_profile.size(), hil::cycles_to_s(sum_compute, r.clock_hz) / n * 1e6,
                         hil::cycles_to_s(max_compute, r.clock_hz) * 1e6,
                         hil::cycles_to_s(sum_period, r.clock_hz) / n * 1e3,

@@ -43,7 +43,7 @@ TEST(SuiteResults, FinishSuitePrintsWritesAndReturnsTheExitCode) {
               "PASS  first (tests/scenarios/first.yaml: 1.500 s simulated, 0.3 s wall)\n"
               "ERROR second (tests/scenarios/second.yaml: 1.500 s simulated, 0.3 s wall)\n"
               "      second.yaml:4: wait-serial failed at t=0.5 s: crashed at PC 0x0000\n"
-              "1 of 2 scenario(s) passed\n");
+              "1 of 2 scenarios passed\n");
     EXPECT_EQ(test::read_text(dir / "results.json"), suite_results_json(results).dump(2) + "\n");
     EXPECT_EQ(test::read_text(dir / "junit.xml"), junit_xml("ddmr-hil scenarios", results));
 }

@@ -90,7 +90,7 @@ void print_verdicts(const std::vector<ScenarioResult>& results) {
     }
     const auto passed = std::count_if(results.begin(), results.end(),
                                       [](const ScenarioResult& r) { return r.verdict == Verdict::kPass; });
-    std::printf("%zd of %zu scenario(s) passed\n", passed, results.size());
+    std::printf("%zd of %zu scenario%s passed\n", passed, results.size(), results.size() == 1 ? "" : "s");
 }
 
 int finish_suite(const std::vector<ScenarioResult>& results, const fs::path& out_dir, const fs::path& junit_path) {
