@@ -38,7 +38,7 @@ struct CalibrateCli {
     std::vector<std::string> fit_keys;
     std::string plant;
     std::string out = "out/calibrate";
-    uint64_t seed = 1;
+    int64_t seed = 1;
     int lm_evaluations = 250;
     int global_evaluations = 0;
     int local_evaluations = 60;
@@ -185,7 +185,9 @@ std::vector<std::pair<double, double>> track(const plant::RobotParams& p, const 
 }
 
 std::string slug(const std::string& source, std::size_t index) {
-    std::string s = fs::path(source).stem().string();
+    // A run's or scenario's folder names its uart.txt.
+    const fs::path p(source);
+    std::string s = p.filename() == "uart.txt" && p.has_parent_path() ? p.parent_path().filename().string() : p.stem().string();
     for (char& c : s) {
         if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
     }
@@ -225,6 +227,10 @@ int run_calibrate(const CalibrateCli& o) {
         if (!o.quiet) std::fprintf(stderr, "calibrate: %s\n", line.c_str());
     };
     // Every input first: nothing is written before they are all good.
+    if (o.seed < 0) throw std::invalid_argument(fmt::format("--seed {}: must be >= 0", o.seed));
+    if (!(o.period_ms >= 0.1 && o.period_ms <= 1000.0)) {
+        throw std::invalid_argument(fmt::format("--period-ms {}: must be in [0.1, 1000] ms", o.period_ms));
+    }
     cal::CalibrationSetup setup;
     for (const std::string& f : o.logs) setup.logs.push_back(cal::read_robot_log(log_file(f)));
     for (const std::string& f : o.holdout) setup.holdout_logs.push_back(cal::read_robot_log(log_file(f)));
@@ -235,10 +241,13 @@ int run_calibrate(const CalibrateCli& o) {
         std::vector<std::string> given = o.logs;
         given.insert(given.end(), o.holdout.begin(), o.holdout.end());
         std::vector<fs::path> seen;
-        for (const std::string& g : given) {
-            const fs::path c = fs::weakly_canonical(log_file(g));
-            if (std::find(seen.begin(), seen.end(), c) != seen.end()) {
-                throw std::invalid_argument(fmt::format("{}: given twice (a held-out log must not be a fitted one)", g));
+        for (std::size_t i = 0; i < given.size(); ++i) {
+            const fs::path c = fs::weakly_canonical(log_file(given[i]));
+            const auto first = std::find(seen.begin(), seen.end(), c);
+            if (first != seen.end()) {
+                const bool held_out = i >= o.logs.size() && static_cast<std::size_t>(first - seen.begin()) < o.logs.size();
+                throw std::invalid_argument(fmt::format("{}: given twice{}", given[i],
+                                                        held_out ? " (a held-out log must not be a fitted one)" : ""));
             }
             seen.push_back(c);
         }
@@ -266,7 +275,7 @@ int run_calibrate(const CalibrateCli& o) {
     setup.objective.encoder_phases.clear();
     for (int i = 0; i < o.phases; ++i) setup.objective.encoder_phases.push_back((i + 0.5) / o.phases);
     setup.least_squares.max_evaluations = o.lm_evaluations;
-    setup.fit.seed = o.seed;
+    setup.fit.seed = static_cast<uint64_t>(o.seed);
     setup.fit.global_evaluations = o.global_evaluations;
     setup.fit.local_evaluations = o.local_evaluations;
     setup.least_squares.progress = [&](int n, double best) {
@@ -382,7 +391,9 @@ int run_calibrate(const CalibrateCli& o) {
     const std::string header = fmt::format(
         "# ddmr-hil calibrate: case {} from {}{}\n# start: {}; seed {}; load with --plant\n"
         "# intervals: 95 % under the log's quantisation, widened to what the host model cannot tell apart "
-        "(docs/calibration.md)\n", case_number,
+        "(docs/calibration.md)\n"
+        "# every value without a comment is the starting plant's: the wheel radii and the axle cannot be "
+        "calibrated from the firmware's log (measure them)\n", case_number,
         log_names(r.train), r.holdout.empty() ? "" : fmt::format(" (judged on {})", log_names(r.holdout)),
         o.plant.empty() ? "the embedded defaults" : o.plant, o.seed);
     write_file_atomic(out / "plant.yaml", plant_yaml(r, header));
@@ -533,7 +544,7 @@ Subcommand register_calibrate_command(CLI::App& app) {
     sub->add_option("--plant", cli->plant, "The starting plant (a plant YAML; default: the embedded defaults)")
         ->check(CLI::ExistingFile);
     sub->add_option("--out", cli->out, "Output folder")->capture_default_str();
-    sub->add_option("--seed", cli->seed, "The optimiser's seed (>= 0)")->capture_default_str()->check(CLI::NonNegativeNumber);
+    sub->add_option("--seed", cli->seed, "The optimiser's seed (>= 0)")->capture_default_str();
     sub->add_option("--lm-evals", cli->lm_evaluations,
                     "Evaluations of the least-squares stage (Levenberg-Marquardt on the cells' centres)")
         ->capture_default_str()

@@ -75,8 +75,8 @@ TEST(CalibrateCommand, WritesThePlantTheScoresTheReportAndConfirmsInTheHil) {
 
     const std::string md = read_text(out / "report.md");
     EXPECT_NE(md.find("| `motor1.resistance_ohm` | 5.32 |"), std::string::npos) << md;
-    EXPECT_NE(md.find("![split: fitted, then judged](xy_1_uart.svg)"), std::string::npos) << md;
-    EXPECT_EQ(read_text(out / "xy_1_uart.svg").rfind("<svg ", 0), 0U);
+    EXPECT_NE(md.find("![split: fitted, then judged](xy_1_robot.svg)"), std::string::npos) << md;
+    EXPECT_EQ(read_text(out / "xy_1_robot.svg").rfind("<svg ", 0), 0U);
     EXPECT_EQ(read_text(out / "tracks.csv").rfind("log,sample,logged_x_m,logged_y_m,before_x_m,", 0), 0U);
 }
 
@@ -129,7 +129,9 @@ TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
         {log + " --case 0", "--case 0: the sketch has cases 1 and 2 only"},
         {sh_quote((dir / "cut.txt").string()), "cut.txt: 50 logged samples; case 1 logs 120 (one per 0.1 s)"},
         {log + " --firmware " + log, "uart.txt"},  // not an ELF: refused before the fit
-        {log + " --seed -1", "--seed"},
+        {log + " --seed -1", "--seed -1: must be >= 0"},
+        {log + " --period-ms 2000", "--period-ms 2000: must be in [0.1, 1000] ms"},
+        {log + " " + log, "uart.txt: given twice\n"},
     };
     for (const auto& c : cases) {
         const fs::path out = dir / "out";
