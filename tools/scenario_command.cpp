@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "common/atomic_file.hpp"
+#include "scenario/step_catalog.hpp"
 #include "common/spawn.hpp"
 #include "exit_codes.hpp"
 #include "hil/avr_core.hpp"
@@ -44,6 +45,7 @@ struct ScenarioCli {
     double wall_timeout_s = 600.0;
     bool worker = false;
     bool progress = false;
+    bool list_steps = false;
 };
 
 /// Loads a scenario and builds the sketch it names (cached) if it names one.
@@ -102,7 +104,7 @@ std::string self_exe() {
 }
 
 int run_suite(const ScenarioCli& cli) {
-    if (cli.files.empty()) throw std::invalid_argument("give at least one scenario file");
+    if (cli.files.empty()) throw std::invalid_argument("give at least one scenario file (or --list-steps)");
     const unsigned jobs = cli.jobs > 0 ? cli.jobs : std::max(1U, std::thread::hardware_concurrency());
     // Everything is loaded and checked before anything runs or is written.
     std::vector<sc::Scenario> scenarios;
@@ -241,7 +243,8 @@ Subcommand register_scenario_command(CLI::App& app) {
         "scenario",
         "Run scenario files (YAML, docs/scenarios.md): firmware regression tests in AVR time with the robot "
         "attached. Exit 0 all passed, 1 a check failed, 2 a scenario or input error, 3 a firmware crash or timeout.");
-    sub->add_option("files", cli->files, "Scenario files")->required()->check(CLI::ExistingFile);
+    sub->add_option("files", cli->files, "Scenario files")->check(CLI::ExistingFile);
+    sub->add_flag("--list-steps", cli->list_steps, "Print every step kind with its forms and an example, and exit");
     sub->add_option("--out", cli->out_dir, "Results folder: one sub-folder per scenario, results.json")
         ->capture_default_str();
     sub->add_option("--junit", cli->junit, "Also write JUnit XML here");
@@ -260,7 +263,13 @@ Subcommand register_scenario_command(CLI::App& app) {
     sub->add_flag("--progress", cli->progress, "Print each scenario as it starts, and its steps with their times as it ends");
     sub->add_flag("--worker", cli->worker, "Run one scenario in this process (used by the suite runner)")
         ->group("");  // hidden
-    return {sub, [cli] { return cli->worker ? run_worker(*cli) : run_suite(*cli); }};
+    return {sub, [cli] {
+        if (cli->list_steps) {
+            std::fputs(std::string(sc::step_catalog_text()).c_str(), stdout);
+            return kExitOk;
+        }
+        return cli->worker ? run_worker(*cli) : run_suite(*cli);
+    }};
 }
 
 }  // namespace ddmr::tools

@@ -330,6 +330,18 @@ TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
 // Issue 19, item 5: a variable the firmware does not have, or one whose size
 // needs a type, is bad input found before the run (exit 2, nothing run), not
 // a failed check after it (exit 1 reads as a firmware regression in CI).
+// Issue 19, item 9: the steps, listed without a scenario file.
+TEST(ScenarioCommand, ListStepsPrintsEveryKind) {
+    const auto r = scenario("--list-steps");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    for (const char* k : {"  delay: ", "  wait-serial: ", "  expect-no-torn-reads: ", "  reset: "}) {
+        EXPECT_NE(r.out.find(k), std::string::npos) << k;
+    }
+    const auto none = scenario("");
+    EXPECT_EQ(none.exit_code, 2);
+    EXPECT_NE(none.err.find("give at least one scenario file (or --list-steps)"), std::string::npos) << none.err;
+}
+
 TEST(ScenarioCommand, ExpectVarNamesAreCheckedBeforeTheRun) {
     TempDir dir;
     const struct {

@@ -1,4 +1,5 @@
 #include "scenario/scenario_yaml.hpp"
+#include "scenario/step_catalog.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -349,6 +350,11 @@ std::optional<Cycles> optional_for(const Ctx& c) {
 }
 
 StepAction parse_step(const std::string& kind, const Ctx& c) {
+    if (find_step(kind) == nullptr) {
+        std::string kinds;
+        for (const StepInfo& i : step_catalog()) kinds += (kinds.empty() ? "" : ", ") + std::string(i.kind);
+        c.fail(fmt::format("unknown step (the steps: {}; `ddmr-hil scenario --list-steps` shows their forms)", kinds));
+    }
     if (kind == "delay") return Delay{c.duration()};
     if (kind == "write-serial") return WriteSerial{c.str()};
     if (kind == "wait-serial") {
@@ -554,7 +560,8 @@ StepAction parse_step(const std::string& kind, const Ctx& c) {
         if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) c.fail("takes no value");
         return Reset{};
     }
-    c.fail("unknown step (see docs/scenarios.md)");
+    // A kind in the catalogue that no branch above parses: a programming error.
+    throw std::logic_error("scenario step '" + kind + "' is in the catalogue but not parsed");
 }
 
 std::string step_text(const YAML::Node& step) {
