@@ -43,7 +43,7 @@ run: build
 	@rc=0; ./$(BUILD)/ddmr-hil compare $(OUT) || rc=$$?; \
 	    if [ $$rc -gt 1 ]; then exit $$rc; fi; \
 	    if [ $$rc -eq 1 ]; then echo "compare: the firmware log is beyond tolerance of the simulation (see $(OUT)/compare.json)"; fi
-	/usr/bin/python3 tools/report/make_report.py $(OUT)
+	./$(BUILD)/ddmr-hil report $(OUT)
 	@echo "report: $(OUT)/report.md (plots beside it; summary.json, compare.json, truth.csv, firmware.csv, eeprom_log.csv, uart.txt)"
 
 # The static checks (make lint), every test, then every test again under

@@ -251,6 +251,8 @@ int run_compare(const CompareCli& cli) {
                     row["endpoint_change_m"].get<double>(), row["rms_change_m"].get<double>());
     }
     std::printf("\nthe simulation (sim.csv), reproduced: %s\n", sim_command.c_str());
+    std::printf("plots of the run and this comparison (xy.png: truth, log and simulation): ddmr-hil report %s\n",
+                shell_quote(dir.string()).c_str());
     std::printf("\n%s: log vs %s simulation rms %.4f m %s tolerance %.4f m; wrote %s\n", pass ? "PASS" : "FAIL",
                 hs::to_string(model), log_sim.rms_m, pass ? "<=" : ">", cli.tolerance_m,
                 (dir / "compare.json").string().c_str());

@@ -9,6 +9,7 @@
 
 #include "exit_codes.hpp"
 #include "calibrate_command.hpp"
+#include "report_command.hpp"
 #include "compare_command.hpp"
 #include "merge_command.hpp"
 #include "plant_command.hpp"
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
         ddmr::tools::register_scenario_command(app),
         ddmr::tools::register_merge_command(app),
         ddmr::tools::register_calibrate_command(app),
+        ddmr::tools::register_report_command(app),
     };
     try {
         app.parse(argc, argv);

@@ -28,4 +28,12 @@ int spawn_redirected(std::vector<std::string> args, const std::filesystem::path&
     return rc;
 }
 
+int spawn_inherit(std::vector<std::string> args, pid_t& pid) {
+    std::vector<char*> argv;
+    argv.reserve(args.size() + 1);
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    return posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ);
+}
+
 }  // namespace ddmr::tools

@@ -15,4 +15,9 @@ namespace ddmr::tools {
 int spawn_redirected(std::vector<std::string> args, const std::filesystem::path& stdout_file,
                      const std::filesystem::path& stderr_file, pid_t& pid);
 
+/// Starts `args[0]` (a path, no PATH search) with `args` as its argv, this
+/// process's environment and its stdin, stdout and stderr. Sets `pid` and
+/// returns 0, or returns posix_spawn's error number. The caller waits.
+int spawn_inherit(std::vector<std::string> args, pid_t& pid);
+
 }  // namespace ddmr::tools

@@ -27,6 +27,38 @@ def read_csv(path):
     return {k: [float(r[k]) for r in rows] for k in (rows[0].keys() if rows else [])}
 
 
+# The Uno's 490 Hz phase-correct PWM: 1 / 490.2 s. Currents and the battery
+# voltage follow each PWM pulse; sampled at 1 kHz (truth.csv) they alias into
+# solid blocks. Plotted instead: the mean over windows of whole PWM periods,
+# and the envelope (min and max) of each window. The window is 25 periods
+# (51.0 ms): 1 kHz against 490.196 Hz beats at |1000 - 2 x 490.196| = 19.61 Hz,
+# one beat every 51.0 ms, so a window's 51 samples fall at evenly spread
+# phases of the PWM cycle and their mean is the cycle's mean.
+PWM_PERIOD_S = 510.0 * 64 / 16e6  # Timer1/2 phase-correct 8-bit (TOP 255: 510 counts), prescaler 64
+WINDOW_PERIODS = 25
+
+
+def window_stats(t, y, window_s):
+    """Consecutive windows of window_s [s] from t[0]: (centre time, mean, min,
+    max) of the samples in each; a last partial window is dropped."""
+    out = []
+    if not t:
+        return out
+    start, i, n = t[0], 0, len(t)
+    while True:
+        end = start + window_s
+        j = i
+        while j < n and t[j] < end:
+            j += 1
+        if j >= n:  # partial window at the end
+            break
+        if j > i:
+            chunk = y[i:j]
+            out.append((start + window_s / 2, sum(chunk) / len(chunk), min(chunk), max(chunk)))
+        i, start = j, end
+    return out
+
+
 def fmt_int(v):
     return "n/a" if v is None else f"{v:.0f}"
 
@@ -119,8 +151,26 @@ def main(argv):
     series("drive", ["duty1", "duty2", "dir1", "dir2"],
            ["duty 1 (pin 10)", "duty 2 (pin 11)", "direction 1 (pin 12)", "direction 2 (pin 13)"],
            "duty [0-1], direction [1 = forward]")
-    series("currents", ["ia1_A", "ia2_A"], ["motor 1", "motor 2"], "armature current [A]")
-    series("battery", ["vbatt_V"], ["battery terminal voltage"], "voltage [V]")
+    def pwm_series(name, keys, labels, ylabel):
+        """Mean per window of WINDOW_PERIODS PWM periods, with the envelope."""
+        fig, ax = plt.subplots(figsize=(8, 3.5))
+        window_s = WINDOW_PERIODS * PWM_PERIOD_S
+        for n, (k, lab) in enumerate(zip(keys, labels)):
+            st = window_stats([t_case[i] for i in in_case], [truth[k][i] for i in in_case], window_s)
+            tc = [w[0] for w in st]
+            colour = f"C{n}"
+            ax.fill_between(tc, [w[2] for w in st], [w[3] for w in st], color=colour, alpha=0.15, lw=0,
+                            label=f"{lab}: min-max per window")
+            ax.plot(tc, [w[1] for w in st], color=colour, lw=1.6, ls="-" if n == 0 else "--",
+                    label=f"{lab}: mean over {WINDOW_PERIODS} PWM periods ({window_s * 1e3:.1f} ms)")
+        ax.set_xlabel("time since the case byte [s]")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+        plots.append(save(fig, run_dir, name))
+
+    pwm_series("currents", ["ia1_A", "ia2_A"], ["motor 1 (right)", "motor 2 (left)"], "armature current [A]")
+    pwm_series("battery", ["vbatt_V"], ["battery terminal voltage"], "voltage [V]")
 
     rep = summary.get("firmware_report", {})
     enc = summary.get("encoder", {})
@@ -181,8 +231,25 @@ def main(argv):
             lines += ["## ISR timing", "", f.read(), ""]
     titles = {"xy": "X-Y trajectories", "tracking_error": "Tracking error", "wheel_speeds": "Wheel speeds",
               "drive": "Drive (duty and direction)", "currents": "Motor currents", "battery": "Battery voltage"}
+    captions = {
+        "xy": "The goal circle, where the plant went (truth), what the firmware logged (its own odometry, "
+              "every 10th iteration) and, after `ddmr-hil compare`, the host simulation. Look at the end points: "
+              "the thesis's metric is the end error over the length of the end vector.",
+        "tracking_error": "Two errors that differ on purpose: |goal - truth| is where the robot really is, "
+                          "|goal - firmware estimate| is what the controller sees (its errx, erry). The "
+                          "controller drives its own error to zero; the gap between the lines is the odometry's "
+                          "drift (encoder quantisation, wheel radius and slip), which no feedback on it can see.",
+        "wheel_speeds": "The wheels' speeds from the plant: the outer (right) wheel turns faster on the circle.",
+        "drive": "What the L298 is told, per coupling step: duty (mean enable level) and direction.",
+        "currents": f"The motor currents, averaged over {WINDOW_PERIODS} PWM periods "
+                    f"({WINDOW_PERIODS * PWM_PERIOD_S * 1e3:.1f} ms), with their range in each window shaded: the "
+                    "current rises and falls with every 490 Hz pulse, so 1 kHz samples of it alias into blocks. "
+                    "Look at the means for the load, at the band for the ripple.",
+        "battery": "The battery's terminal voltage, averaged the same way: it dips with each pulse's current "
+                   "(internal resistance) and sags slowly with the charge drawn.",
+    }
     for p in plots:
-        lines += [f"## {titles[p]}", "", f"![{titles[p]}]({p}.png)", ""]
+        lines += [f"## {titles[p]}", "", f"![{titles[p]}]({p}.png)", "", f"*{captions[p]}*", ""]
     tmp = os.path.join(run_dir, "report.md.tmp")
     with open(tmp, "w") as f:
         f.write("\n".join(lines))
