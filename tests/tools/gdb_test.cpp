@@ -141,6 +141,32 @@ TEST_F(GdbOption, BreaksInEncoder1WhileTheRobotMovesAndTheRunFinishes) {
     EXPECT_EQ(s["loop_iterations"], 1200);
 }
 
+// Issue 19, item 8: the shipped tools/ddmr.gdbinit. A source-line
+// breakpoint works (its line tables read up front: without them avr-gdb says
+// "No source file named ddmr_tracking.ino"), it stops in main() because loop()
+// is inlined, and its commands read the untyped globals.
+TEST_F(GdbOption, TheShippedGdbinitBreaksOnASourceLineAndReadsThePose) {
+    const auto out = dir_ / "run";
+    ASSERT_NO_FATAL_FAILURE(start_run(out));
+    std::string line = "timeout 120 avr-gdb -batch -nx -x " +
+                       sh_quote((source_dir() / "tools/ddmr.gdbinit").string());
+    for (const std::string& c : {"hil " + std::to_string(port_), std::string("break ddmr_tracking.ino:182"),
+                                std::string("continue"), std::string("pose"), std::string("counts"),
+                                std::string("where"), std::string("detach")}) {
+        line += " -ex " + sh_quote(c);
+    }
+    const ProcessResult gdb = run_command(line + " " + sh_quote(firmware_elf().string()));
+    EXPECT_EQ(gdb.exit_code, 0) << gdb.out << gdb.err;
+    EXPECT_NE(gdb.out.find("Breakpoint 1, main () at "), std::string::npos) << gdb.out << gdb.err;
+    EXPECT_NE(gdb.out.find("ddmr_tracking.ino:182"), std::string::npos) << gdb.out;
+    EXPECT_NE(gdb.out.find("Ex 0.0000 m  Ey 0.0000 m  Theta "), std::string::npos) << gdb.out;
+    EXPECT_NE(gdb.out.find("Count1 "), std::string::npos) << gdb.out;
+    EXPECT_NE(gdb.out.find("main + "), std::string::npos) << gdb.out;  // where: inside main, loop() inlined
+    const auto rc = run_->exit_code(kRunLimit);
+    ASSERT_TRUE(rc.has_value());
+    EXPECT_EQ(*rc, 0) << run_->err();
+}
+
 TEST_F(GdbOption, ABusyPortIsRefusedAndKillEndsTheRunWithExit3) {
     const auto first_out = dir_ / "first";
     ASSERT_NO_FATAL_FAILURE(start_run(first_out));
