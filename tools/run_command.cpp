@@ -234,23 +234,35 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     static_cast<unsigned long long>(r.encoder[0].lost_edges),
                     static_cast<unsigned long long>(r.encoder[1].lost_edges));
         if (!r.loop_profile.empty()) {
-            hil::Cycles max_compute = 0, max_period = 0, sum_compute = 0, sum_period = 0;
-            for (const auto& it : r.loop_profile) {
-                max_compute = std::max(max_compute, it.compute());
-                max_period = std::max(max_period, it.period());
-                sum_compute += it.compute();
-                sum_period += it.period();
+            // Cycles first (what the firmware costs on any clock), then time.
+            // The iterations that start an EEPROM write apart: the write's
+            // wait (3.3 ms per byte after the first) is not the control law's.
+            const auto cyc_us = [&](double cycles) {
+                return fmt::format("{:.0f} cycles ({:.1f} us)", cycles, cycles / r.clock_hz * 1e6);
+            };
+            std::printf("loop profile: %zu iterations measured (all but the first, which has no start):\n",
+                        r.loop_profile.size());
+            for (const bool eeprom : {false, true}) {
+                hil::Cycles max_compute = 0, max_period = 0, sum_compute = 0, sum_period = 0;
+                std::size_t n = 0;
+                for (const auto& it : r.loop_profile) {
+                    if (it.eeprom_write != eeprom) continue;
+                    ++n;
+                    max_compute = std::max(max_compute, it.compute());
+                    max_period = std::max(max_period, it.period());
+                    sum_compute += it.compute();
+                    sum_period += it.period();
+                }
+                if (n == 0) continue;
+                const double dn = static_cast<double>(n);
+                std::printf("  %4zu %-24s compute mean %s, max %s; period mean %.3f ms, max %.3f ms\n", n,
+                            eeprom ? "with an EEPROM write" : "without an EEPROM write",
+                            cyc_us(static_cast<double>(sum_compute) / dn).c_str(),
+                            cyc_us(static_cast<double>(max_compute)).c_str(),
+                            hil::cycles_to_s(sum_period, r.clock_hz) / dn * 1e3,
+                            hil::cycles_to_s(max_period, r.clock_hz) * 1e3);
             }
-            const double n = static_cast<double>(r.loop_profile.size());
-            // The first iteration after the profiler is armed has no start
-            // (hil/loop_profiler.hpp): one fewer than loop_iterations.
-            std::printf("loop profile: %zu iterations measured (all but the first, which has no start), compute "
-                        "mean %.1f us (max %.1f us), period mean %.3f ms (max %.3f ms); details in loop_profile.csv "
-                        "and summary.json\n",
-                        r.loop_profile.size(), hil::cycles_to_s(sum_compute, r.clock_hz) / n * 1e6,
-                        hil::cycles_to_s(max_compute, r.clock_hz) * 1e6,
-                        hil::cycles_to_s(sum_period, r.clock_hz) / n * 1e3,
-                        hil::cycles_to_s(max_period, r.clock_hz) * 1e3);
+            std::printf("  details in loop_profile.csv and summary.json\n");
             if (r.eeprom_writes > r.eeprom_writes_recorded) {
                 std::printf("loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
                             "the last of them are not tagged eeprom_write\n",

@@ -265,6 +265,10 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     EXPECT_NE(r.out.find("loop profile: 799 iterations measured (all but the first, which has no start)"),
               std::string::npos)
         << r.out;
+    // In cycles first; case 2 writes no EEPROM, so one group only.
+    EXPECT_NE(r.out.find("   799 without an EEPROM write  compute mean "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" cycles ("), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("with an EEPROM write"), std::string::npos) << r.out;
     EXPECT_EQ(s["loop_profile"]["all"]["period"]["count"], 799);
     EXPECT_GE(s["loop_profile"]["all"]["wait"]["min_us"].get<double>(), 9000.0);
     EXPECT_EQ(s["loop_profile"]["with_eeprom_write"]["period"]["count"], 0);  // case 2 logs nothing
