@@ -46,6 +46,7 @@ struct ScenarioCli {
     bool worker = false;
     bool progress = false;
     bool list_steps = false;
+    bool update_golden = false;
 };
 
 /// Loads a scenario and builds the sketch it names (cached) if it names one.
@@ -71,7 +72,7 @@ sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
 int run_worker(const ScenarioCli& cli) {
     if (cli.files.size() != 1) throw std::invalid_argument("--worker takes exactly one scenario file");
     const sc::Scenario s = load(cli.files[0], cli);
-    const sc::ScenarioResult r = sc::run_scenario(s, cli.out_dir, cli.progress);
+    const sc::ScenarioResult r = sc::run_scenario(s, cli.out_dir, cli.progress, cli.update_golden);
     return sc::exit_code(r.verdict);
 }
 
@@ -172,6 +173,7 @@ int run_suite(const ScenarioCli& cli) {
         fs::remove(dir / "result.json");
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
+        if (cli.update_golden) args.emplace_back("--update-golden");
         if (cli.progress) {
             args.emplace_back("--progress");
             std::fprintf(stderr, "  start %s (%s)\n", s.name.c_str(), s.file.string().c_str());
@@ -245,6 +247,9 @@ Subcommand register_scenario_command(CLI::App& app) {
         "attached. Exit 0 all passed, 1 a check failed, 2 a scenario or input error, 3 a firmware crash or timeout.");
     sub->add_option("files", cli->files, "Scenario files")->check(CLI::ExistingFile);
     sub->add_flag("--list-steps", cli->list_steps, "Print every step kind with its forms and an example, and exit");
+    sub->add_flag("--update-golden", cli->update_golden,
+                  "Record what expect-eeprom (its bin/log file) and expect-pose (x_m, y_m, theta_rad in the scenario "
+                  "file) steps see instead of checking it; written only when every other step passes");
     sub->add_option("--out", cli->out_dir, "Results folder: one sub-folder per scenario, results.json")
         ->capture_default_str();
     sub->add_option("--junit", cli->junit, "Also write JUnit XML here");

@@ -330,6 +330,38 @@ TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
 // Issue 19, item 5: a variable the firmware does not have, or one whose size
 // needs a type, is bad input found before the run (exit 2, nothing run), not
 // a failed check after it (exit 1 reads as a firmware regression in CI).
+// Issue 19, item 10: --update-golden records what expect-eeprom and
+// expect-pose see (the golden file, the pose values in the scenario file),
+// only when every other step passes; the next run passes without it.
+TEST(ScenarioCommand, UpdateGoldenRecordsThenTheRunPasses) {
+    TempDir dir;
+    std::ofstream(dir / "golden.bin") << "old";
+    const std::string steps = "timeout: 12s\nsteps:\n  - delay: 100ms\n  - write-serial: \"1\"\n"
+                              "  - wait-serial: {text: \"0.6m\", timeout: 6s}\n  - delay: 1s\n"
+                              "  - expect-pose: {x_m: 9, y_m: 9, tol_m: 0.0005}\n  - expect-eeprom: {bin: golden.bin}\n";
+    const auto f = write(dir, "g.yaml", "name: g\n" + steps);
+    auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "a").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;  // the made-up values fail
+    // A failing step elsewhere: nothing is recorded.
+    const auto bad = write(dir, "bad.yaml", "name: bad\n" + steps + "  - expect-serial: \"NOPE\"\n");
+    const std::string bad_before = read_text(bad);
+    r = scenario(sh_quote(bad.string()) + " --update-golden --out " + sh_quote((dir / "b").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_EQ(read_text(bad), bad_before);
+    EXPECT_EQ(read_text(dir / "golden.bin"), "old");
+    EXPECT_NE(result_of(dir / "b/bad")["message"].get<std::string>().find("nothing recorded, the run did not pass"),
+              std::string::npos);
+    // Every other step passes: recorded, and the same run now passes without the flag.
+    r = scenario(sh_quote(f.string()) + " --update-golden --out " + sh_quote((dir / "c").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_EQ(read_text(dir / "golden.bin").size(), 1024u);
+    const std::string yaml = read_text(f);
+    EXPECT_EQ(yaml.find("x_m: 9,"), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("tol_m: 0.0005}"), std::string::npos) << yaml;  // the rest of the line as it was
+    r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "d").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err << yaml;
+}
+
 // Issue 19, item 9: the steps, listed without a scenario file.
 TEST(ScenarioCommand, ListStepsPrintsEveryKind) {
     const auto r = scenario("--list-steps");

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
 
@@ -41,6 +42,35 @@ TEST(ScenarioSchema, AcceptsEveryShippedScenario) {
     EXPECT_GE(n, 14);  // 7 in tests/scenarios, 7 examples
     const ProcessResult r = validate(files);
     EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+}
+
+// The board and plant schemas, the same way: every shipped file passes, a
+// misspelled key and a value out of its range do not.
+TEST(BoardAndPlantSchemas, AcceptShippedFilesAndRefuseMistakes) {
+    const auto run = [](const char* schema, const std::string& files) {
+        return run_command("/usr/bin/python3 " +
+                           sh_quote((source_dir() / "tests/tools/validate_yaml_schema.py").string()) + " " +
+                           sh_quote((source_dir() / "docs/schema" / schema).string()) + " " + files);
+    };
+    std::string boards = sh_quote((source_dir() / "firmware/ddmr_tracking/board.yaml").string());
+    std::string plants = sh_quote((source_dir() / "plant/params/default.yaml").string()) + " " +
+                         sh_quote((source_dir() / "tests/tools/calibrate/data/perturbed_robot.yaml").string());
+    for (const auto& e : fs::directory_iterator(source_dir() / "firmware/examples")) {
+        if (fs::exists(e.path() / "board.yaml")) boards += " " + sh_quote((e.path() / "board.yaml").string());
+        if (fs::exists(e.path() / "plant.yaml")) plants += " " + sh_quote((e.path() / "plant.yaml").string());
+    }
+    auto r = run("board.schema.json", boards);
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    r = run("plant.schema.json", plants);
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+
+    TempDir dir;
+    std::ofstream(dir / "plant.yaml") << "motor1:\n  resistnce_ohm: 5\nencoder1:\n  initial_phase: 1.0\n";
+    r = run("plant.schema.json", sh_quote((dir / "plant.yaml").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    std::ofstream(dir / "board.yaml") << read_text(source_dir() / "firmware/ddmr_tracking/board.yaml") << "pullup: true\n";
+    r = run("board.schema.json", sh_quote((dir / "board.yaml").string()));
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
 }
 
 TEST(ScenarioSchema, RefusesWhatTheParserRefuses) {

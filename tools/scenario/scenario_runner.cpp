@@ -90,8 +90,9 @@ hil::VarType default_type(const hil::ElfImage& elf, const std::string& name) {
 
 class Session {
 public:
-    Session(const Scenario& s, const fs::path& out_dir, bool progress)
-        : s_(s), out_dir_(out_dir), progress_(progress), elf_(hil::ElfImage::read(s.firmware)) {
+    Session(const Scenario& s, const fs::path& out_dir, bool progress, bool update_golden)
+        : s_(s), out_dir_(out_dir), progress_(progress), update_golden_(update_golden),
+          elf_(hil::ElfImage::read(s.firmware)) {
         const hil::BoardDescription& board = hil::board_description(s.board.model);
         elf_.require_mcu(*board.mcu, board.key);
         if (s.eeprom_preload) preload_ = hil::EepromPort::load_image(*s.eeprom_preload, *board.mcu);
@@ -139,6 +140,7 @@ public:
         });
         for (const Step& step : s_.steps) {
             StepOutcome o{step.line, step.kind, step.text, false, 0, {}};
+            current_line_ = step.line;
             try {
                 o.message = execute(step);
                 o.passed = true;
@@ -174,6 +176,7 @@ public:
         r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         r.uart_bytes = text_.size();
         r.framing_errors = adapter_->framing_errors();
+        if (update_golden_) apply_golden(r);
         write_artifacts(r);
         truth.commit();
         return r;
@@ -269,6 +272,70 @@ private:
         }
     }
     void clear_stop() { core().clear_stop_request(); }
+
+    /// --update-golden: what the run recorded, written only if every other
+    /// step passed (the file's new bytes, or the pose for the step's line).
+    struct Golden {
+        int line = 0;
+        std::optional<fs::path> file;  ///< expect-eeprom: the golden file
+        std::string bytes;
+        std::optional<plant::Pose> pose;  ///< expect-pose: new x_m, y_m (and theta_rad when given)
+    };
+    void apply_golden(ScenarioResult& r) {
+        if (golden_.empty()) return;
+        if (r.verdict != Verdict::kPass) {
+            r.message += fmt::format(" (--update-golden: nothing recorded, the run did not pass)");
+            return;
+        }
+        // The scenario file: each pose step's own lines, from its line to the next step's.
+        std::string text;
+        {
+            std::ifstream in(s_.file, std::ios::binary);
+            text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        }
+        std::vector<std::string> lines;
+        for (std::size_t a = 0; a <= text.size();) {
+            const std::size_t b = text.find('\n', a);
+            lines.push_back(text.substr(a, b == std::string::npos ? std::string::npos : b - a));
+            if (b == std::string::npos) break;
+            a = b + 1;
+        }
+        std::vector<std::string> recorded;
+        bool yaml_changed = false;
+        for (const Golden& g : golden_) {
+            if (g.file) {
+                write_file_atomic(*g.file, g.bytes);
+                recorded.push_back(g.file->filename().string());
+                continue;
+            }
+            int end_line = static_cast<int>(lines.size()) + 1;
+            for (const Step& st : s_.steps) {
+                if (st.line > g.line) end_line = std::min(end_line, st.line);
+            }
+            const auto set = [&](const char* key, double value) {
+                const std::regex re(std::string("(\\b") + key + ":\\s*)[-+0-9.eE]+");
+                for (int l = g.line; l < end_line && l <= static_cast<int>(lines.size()); ++l) {
+                    std::string& line = lines[static_cast<std::size_t>(l - 1)];
+                    std::smatch m;
+                    if (std::regex_search(line, m, re)) {
+                        line = m.prefix().str() + m[1].str() + fmt::format("{:.4f}", value) + m.suffix().str();
+                        return;
+                    }
+                }
+            };
+            set("x_m", g.pose->x_m);
+            set("y_m", g.pose->y_m);
+            set("theta_rad", g.pose->theta_rad);  // only where the step gives one
+            yaml_changed = true;
+            recorded.push_back(fmt::format("the pose at line {}", g.line));
+        }
+        if (yaml_changed) {
+            std::string out;
+            for (std::size_t l = 0; l < lines.size(); ++l) out += lines[l] + (l + 1 < lines.size() ? "\n" : "");
+            write_file_atomic(s_.file, out);
+        }
+        r.message = fmt::format("--update-golden: recorded {}", fmt::join(recorded, ", "));
+    }
 
     // --- steps ------------------------------------------------------------
     std::string execute(const Step& step) {
@@ -421,8 +488,12 @@ private:
             p = {vars.read("Ex", hil::VarType::kFloat), vars.read("Ey", hil::VarType::kFloat),
                  vars.read("Theta", hil::VarType::kFloat)};
         }
-        const double d = std::hypot(p.x_m - e.x_m, p.y_m - e.y_m);
         const char* src = e.source == PoseSource::kTruth ? "truth" : "firmware";
+        if (update_golden_) {
+            golden_.push_back({current_line_, {}, {}, p});
+            return fmt::format("{} pose ({:.4f}, {:.4f}) theta {:.4f}: recorded", src, p.x_m, p.y_m, p.theta_rad);
+        }
+        const double d = std::hypot(p.x_m - e.x_m, p.y_m - e.y_m);
         if (d > e.tol_m || (e.theta_rad && std::abs(p.theta_rad - *e.theta_rad) > e.tol_rad)) {
             throw StepFailed{Verdict::kFail,
                              fmt::format("expected the {} pose within {} m of ({:.4f}, {:.4f}){}; got ({:.4f}, {:.4f}) "
@@ -441,6 +512,20 @@ private:
         return hil::decode_eeprom_log(image, timing.sample_count, timing.times_s);
     }
     std::string run_step(const ExpectEeprom& e) {
+        if (update_golden_) {
+            std::string note;
+            if (e.bin) {
+                const hil::EepromImage image = rig_->eeprom().read_all();
+                golden_.push_back({current_line_, *e.bin, std::string(image.begin(), image.end()), {}});
+                note = fmt::format("{} bytes", image.size());
+            }
+            if (e.log) {
+                const auto log = eeprom_log();
+                golden_.push_back({current_line_, *e.log, hil::eeprom_log_csv(log), {}});
+                note += fmt::format("{}{} log samples", note.empty() ? "" : ", ", log.size());
+            }
+            return note + ": recorded";
+        }
         std::string note;
         if (e.bin) {
             std::ifstream in(*e.bin, std::ios::binary);
@@ -732,6 +817,9 @@ private:
     const Scenario& s_;
     fs::path out_dir_;
     bool progress_;
+    bool update_golden_ = false;
+    std::vector<Golden> golden_;
+    int current_line_ = 0;  ///< the step being run
     hil::ElfImage elf_;
     std::optional<hil::EepromImage> preload_;
     std::optional<hil::RobotRig> rig_;
@@ -811,8 +899,8 @@ void check_firmware_names(const Scenario& s) {
     }
 }
 
-ScenarioResult run_scenario(const Scenario& s, const fs::path& out_dir, bool progress) {
-    Session session(s, out_dir, progress);
+ScenarioResult run_scenario(const Scenario& s, const fs::path& out_dir, bool progress, bool update_golden) {
+    Session session(s, out_dir, progress, update_golden);
     return session.run();
 }
 

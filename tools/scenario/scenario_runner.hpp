@@ -72,6 +72,11 @@ void check_firmware_names(const Scenario& s);
 /// Runs `s`, writing its artifacts to `out_dir` (created). Throws
 /// std::runtime_error / std::invalid_argument for input errors before
 /// anything is written.
-ScenarioResult run_scenario(const Scenario& s, const std::filesystem::path& out_dir, bool progress = false);
+/// With `update_golden`, expect-eeprom and expect-pose steps record what the
+/// run gives instead of checking it (the golden files, and the pose values in
+/// the scenario file at the step's lines), written only when every other
+/// step passed.
+ScenarioResult run_scenario(const Scenario& s, const std::filesystem::path& out_dir, bool progress = false,
+                            bool update_golden = false);
 
 }  // namespace ddmr::tools::scenario
