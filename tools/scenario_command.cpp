@@ -15,6 +15,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -135,16 +136,29 @@ int run_suite(const ScenarioCli& cli) {
         scenarios = std::move(mine);
     }
     // Every output path too: a --junit that cannot be written is found now,
-    // not after the suite ran and its verdict was printed.
+    // not after the suite ran and its verdict was printed. Its folder must
+    // exist, or be inside --out (made by the run).
+    const fs::path out = cli.out_dir;
+    std::optional<fs::path> junit_folder_to_make;
     if (!cli.junit.empty()) {
         try {
-            check_output_file(cli.junit);
+            const fs::path parent = fs::path(cli.junit).parent_path();
+            const fs::path p = fs::weakly_canonical(parent.empty() ? fs::path(".") : parent);
+            const fs::path o = fs::weakly_canonical(out);
+            const auto rel = p.lexically_relative(o);
+            const bool inside_out = !rel.empty() && *rel.begin() != "..";
+            if (inside_out && !fs::is_directory(p)) {
+                check_output_dir(p);
+                junit_folder_to_make = p;
+            } else {
+                check_output_file(cli.junit);
+            }
         } catch (const std::exception& e) {
             throw std::invalid_argument(fmt::format("--junit {}: {}", cli.junit, e.what()));
         }
     }
-    const fs::path out = cli.out_dir;
     prepare_output_dir(out);
+    if (junit_folder_to_make) fs::create_directories(*junit_folder_to_make);
     // A scenario folder from an earlier run into this --out that this suite
     // would not rewrite (a scenario since renamed or removed) would read as
     // one of its results: removed.

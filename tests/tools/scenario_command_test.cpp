@@ -296,6 +296,11 @@ TEST(ScenarioCommand, TheSuitesOutputsAreCheckedCountedAndFresh) {
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
     EXPECT_EQ(r.out.find("PASS"), std::string::npos) << r.out;
 
+    // A JUnit file inside --out: its folder is made by the run (how CI's ctest calls it).
+    r = scenario(sh_quote(ok.string()) + " --junit " + sh_quote((dir / "fresh" / "j.xml").string()) + " --out " +
+                 sh_quote((dir / "fresh").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "fresh" / "j.xml"));
     std::filesystem::create_directories(dir / "out" / "gone");
     std::ofstream(dir / "out" / "gone" / "result.json") << "{}";
     r = scenario(sh_quote(ok.string()) + " " + sh_quote(bad.string()) + " -j 1 --progress --out " +
