@@ -1,8 +1,14 @@
-# add_arduino_sketch(<target> SKETCH <dir/name.ino> OUTPUT <path.elf> [FQBN <fqbn>] [MCU <mcu>])
+# add_arduino_sketch(<target> SKETCH <dir/name.ino> OUTPUT <path.elf> [FQBN <fqbn>] [MCU <mcu>]
+#                    [LIBRARIES <dir>...])
 #
 # FQBN: the board (default arduino:avr:uno; arduino:avr:nano:cpu=atmega328,
 # arduino:avr:pro:cpu=8MHzatmega328, arduino:avr:mega:cpu=atmega2560); MCU:
 # its chip for the size report (default atmega328p; atmega2560 for the Mega).
+# LIBRARIES: folders of Arduino libraries. arduino-builder is given, as
+# `ddmr-hil` gives it (tools/common/arduino_libraries.hpp, docs/firmware.md),
+# the existing folders among: the sketch's src/, LIBRARIES, and the
+# sketchbook's libraries/ ($ARDUINO_DIRECTORIES_USER/libraries, else
+# ~/Arduino/libraries, as found when CMake configures).
 #
 # Builds an Arduino sketch exactly as the Arduino IDE does, with Debian's
 # arduino-builder and Arduino AVR core: the IDE's .ino preprocessing (ctags
@@ -29,7 +35,7 @@ foreach(dir IN LISTS DDMR_ARDUINO_HARDWARE_DIRS)
 endforeach()
 
 function(add_arduino_sketch target)
-    cmake_parse_arguments(ARG "" "SKETCH;OUTPUT;FQBN;MCU" "" ${ARGN})
+    cmake_parse_arguments(ARG "" "SKETCH;OUTPUT;FQBN;MCU" "LIBRARIES" ${ARGN})
     if(NOT ARG_FQBN)
         set(ARG_FQBN ${DDMR_ARDUINO_FQBN})
     endif()
@@ -45,6 +51,22 @@ function(add_arduino_sketch target)
     foreach(dir IN LISTS DDMR_ARDUINO_HARDWARE_DIRS)
         list(APPEND hardware_args -hardware "${dir}")
     endforeach()
+    # Library folders: arduino-builder aborts on one that does not exist.
+    get_filename_component(sketch_dir "${ARG_SKETCH}" DIRECTORY)
+    set(sketchbook_libraries)
+    if(DEFINED ENV{ARDUINO_DIRECTORIES_USER} AND NOT "$ENV{ARDUINO_DIRECTORIES_USER}" STREQUAL "")
+        set(sketchbook_libraries "$ENV{ARDUINO_DIRECTORIES_USER}/libraries")
+    elseif(DEFINED ENV{HOME} AND NOT "$ENV{HOME}" STREQUAL "")
+        set(sketchbook_libraries "$ENV{HOME}/Arduino/libraries")
+    endif()
+    set(library_args)
+    foreach(dir IN ITEMS "${sketch_dir}/src" ${ARG_LIBRARIES} ${sketchbook_libraries})
+        if(IS_DIRECTORY "${dir}")
+            list(APPEND library_args -libraries "${dir}")
+        elseif(NOT dir STREQUAL "${sketch_dir}/src" AND NOT dir STREQUAL "${sketchbook_libraries}")
+            message(FATAL_ERROR "add_arduino_sketch(${target}): LIBRARIES ${dir}: no such folder")
+        endif()
+    endforeach()
     add_custom_command(
         OUTPUT "${ARG_OUTPUT}" "${hex}"
         COMMAND ${CMAKE_COMMAND} -E rm -rf "${work_dir}"
@@ -52,6 +74,7 @@ function(add_arduino_sketch target)
         COMMAND ${ARDUINO_BUILDER} -compile ${hardware_args}
                 -tools "${DDMR_ARDUINO_TOOLS_DIR}"
                 -fqbn ${ARG_FQBN}
+                ${library_args}
                 -build-path "${work_dir}"
                 "-prefs=${DDMR_ARDUINO_EXTRA_PREFS}"
                 "${ARG_SKETCH}"

@@ -12,6 +12,8 @@ find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 find_package(pugixml REQUIRED)  # JUnit XML of `ddmr-hil scenario`
 # NLopt (libnlopt-cxx-dev: the C library and nlopt.hpp): `ddmr-hil calibrate`'s optimiser.
 find_package(NLopt 2.7 REQUIRED)
+# libinih (libinih-dev): PlatformIO projects' platformio.ini (`run --platformio`).
+pkg_check_modules(INIH REQUIRED IMPORTED_TARGET inih)
 
 if(DDMR_WITH_HIL)
     # simavr 1.6: Debian ships only the static library and a pkg-config file.

@@ -440,7 +440,9 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         }
     }
     const bool reports = contract && contract->report == hil::ReportFormat::kDdmrTracking;
-    const bool completes = contract && contract->complete;
+    // --unity replaces the contract's `complete` (Unity's summary ends the run).
+    const bool contract_completes = !options.unity && contract && contract->complete;
+    const bool completes = options.unity || contract_completes;
     std::optional<hil::ElfSymbol> loop_mark;
     if (options.profile_top == 0) {
         throw std::invalid_argument("--top 0: give the number of functions to print, >= 1");
@@ -638,10 +640,11 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     // Texts the contract waits for in what the firmware sends.
     TextWatch start_watch(has_start && contract->start->after_text ? *contract->start->after_text : "");
     TextWatch pose_watch(pose_x && contract->pose->at_text ? *contract->pose->at_text : "");
-    TextWatch done_watch(completes && contract->complete->text ? *contract->complete->text : "");
+    TextWatch done_watch(contract_completes && contract->complete->text ? *contract->complete->text : "");
+    UnitySummaryWatch unity_watch;
     // lines-after: the end of the text's own line, then that many more lines.
     int lines_to_go = 0;
-    if (completes && contract->complete->text) {
+    if (contract_completes && contract->complete->text) {
         lines_to_go = contract->complete->lines_after + (contract->complete->text->back() == '\n' ? 0 : 1);
     }
     bool done = false;
@@ -683,7 +686,16 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
             if (!started) core.request_stop();  // the run loop sends the start text now
         }
         if (pose_watch.feed(c) && !result.end_pose_firmware) read_pose();
-        if (completes && contract->complete->text && !done) {
+        if (options.unity) {
+            std::fputc(c, stdout);  // pio test reads Unity's lines from stdout as they come
+            if (c == '\n') std::fflush(stdout);
+            if (!done && unity_watch.feed(c)) {
+                done = true;
+                result.unity = unity_watch.summary();
+                core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
+            }
+        }
+        if (contract_completes && contract->complete->text && !done) {
             if (done_watch.seen()) {
                 if (c == '\n') --lines_to_go;
             } else {
@@ -700,7 +712,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         if (was_done) return;
         if (parser.error()) {
             core.request_stop();
-        } else if (parser.complete() && completes && contract->complete->report) {
+        } else if (parser.complete() && contract_completes && contract->complete->report) {
             done = true;
             core.stop_after(uart.cycles_per_byte());  // the last byte has left the wire
         }
@@ -837,9 +849,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
         result.exit = RunExit::kTimeLimit;  // the run it was asked for, complete
     } else {  // the time limit came first
         result.exit = RunExit::kTimeout;
-        const std::string what = contract->complete->report
-                                     ? std::string("the firmware's report was not complete")
-                                     : fmt::format("'{}' never came", *contract->complete->text);
+        const std::string what =
+            options.unity ? std::string(unity_watch.counts_seen()
+                                            ? "Unity's OK or FAIL line never came after its counts"
+                                            : "Unity's summary ('N Tests N Failures N Ignored', then OK or FAIL) "
+                                              "never came")
+            : contract->complete->report ? std::string("the firmware's report was not complete")
+                                         : fmt::format("'{}' never came", *contract->complete->text);
         if (result.ready_cycle || !has_start) {
             result.message = fmt::format("timeout after {} simulated s: {} (raise --seconds?)",
                                          options.max_sim_seconds, what);
@@ -988,6 +1004,12 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                  {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", reports ? report_json(result.report) : json(nullptr)},
+        {"unity", result.unity ? json{{"tests", result.unity->tests},
+                                      {"failures", result.unity->failures},
+                                      {"ignored", result.unity->ignored},
+                                      {"ok", result.unity->ok}}
+                               : json(nullptr)},
+        {"firmware_source", options.firmware_source},
         {"report_fields", [&] {
              if (field_patterns.empty()) return json(nullptr);
              json f = json::object();

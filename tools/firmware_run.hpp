@@ -46,6 +46,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "common/unity_summary.hpp"
 #include "hil/avr_core.hpp"
 #include "hil/eeprom_port.hpp"
 #include "hil/eeprom_write_timing.hpp"
@@ -115,6 +118,14 @@ struct FirmwareRunOptions {
     /// instruction (hil/gdb_server.hpp); 1..65535.
     std::optional<uint16_t> gdb_port;
     double gdb_attach_timeout_s = 300.0;  ///< [wall s] how long to wait for avr-gdb
+    /// --unity: the run is complete when Unity's summary ("N Tests N Failures
+    /// N Ignored", then OK or FAIL) has been received (common/unity_summary.hpp),
+    /// instead of the contract's `complete`; every byte the host receives is
+    /// also written to stdout as it arrives (`pio test`'s test_testing_command).
+    bool unity = false;
+    /// Where the ELF came from (a sketch build, a PlatformIO project):
+    /// summary.json's `firmware_source`, null when the ELF was given.
+    nlohmann::json firmware_source = nullptr;
 };
 
 enum class RunExit {
@@ -162,6 +173,7 @@ struct FirmwareRunResult {
     uint64_t eeprom_writes = 0;
     std::size_t eeprom_writes_recorded = 0;
     std::string function_profile_top;  ///< with profile: the top-N table for stdout
+    std::optional<UnitySummary> unity;  ///< with FirmwareRunOptions::unity, once its summary came
 };
 
 /// Validates every input (throws std::runtime_error / std::invalid_argument

@@ -9,8 +9,11 @@
 
 #include <fmt/format.h>
 
+#include "common/platformio_project.hpp"
+#include "common/sketch_build.hpp"
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "hil/board.hpp"
 #include "hil/board_description.hpp"
 #include "hil/plant_coupler.hpp"
 
@@ -36,6 +39,12 @@ struct RunCli {
     std::string contract;            ///< --contract FILE
     uint32_t baud = 0;               ///< --baud N (0: none)
     std::string board_name;          ///< --board-name KEY
+    std::string sketch;              ///< --sketch x/x.ino: built with arduino-builder
+    std::vector<std::string> libraries;  ///< --libraries DIR (repeatable)
+    std::string platformio;          ///< --platformio DIR: the project's ELF
+    std::string pio_env;             ///< --env NAME
+    bool unity = false;              ///< --unity
+    CLI::Option* firmware_option = nullptr;
     CLI::Option* case_option = nullptr;
     CLI::Option* ready_option = nullptr;
     CLI::Option* loop_mark_option = nullptr;
@@ -45,13 +54,69 @@ struct RunCli {
 
 namespace {
 
+/// --sketch or --platformio: builds or finds the ELF (and the board), all
+/// checked before anything runs; --libraries and --env only with them.
+void resolve_firmware(const RunCli& cli, FirmwareRunOptions& o) {
+    const int sources = static_cast<int>(cli.firmware_option->count() > 0) + static_cast<int>(!cli.sketch.empty()) +
+                        static_cast<int>(!cli.platformio.empty());
+    if (sources > 1) throw std::invalid_argument("give one of --firmware, --sketch and --platformio");
+    if (!cli.libraries.empty() && cli.sketch.empty()) {
+        throw std::invalid_argument("--libraries: only with --sketch (the sketch to build)");
+    }
+    if (!cli.pio_env.empty() && cli.platformio.empty()) throw std::invalid_argument("--env: only with --platformio DIR");
+    if (!cli.platformio.empty()) {
+        const PlatformioProject p = load_platformio_project(cli.platformio, cli.pio_env);
+        if (!cli.board_name.empty() && hil::parse_board_key(cli.board_name) != p.board) {
+            throw std::invalid_argument(fmt::format("--board-name {}: {}'s [env:{}] is for board {} ({})", cli.board_name,
+                                                    (p.dir / "platformio.ini").string(), p.env, p.board_id,
+                                                    hil::board_description(p.board).key));
+        }
+        o.firmware = p.elf;
+        o.board_name = p.board;
+        o.firmware_source = platformio_json(p);
+    } else if (!cli.sketch.empty()) {
+        // The board: --board-name, else the board file's, else the Uno.
+        hil::BoardModel model = hil::BoardModel::uno;
+        if (!cli.board_name.empty()) {
+            if (const auto m = hil::parse_board_key(cli.board_name)) model = *m;
+        } else if (!cli.board_file.empty()) {
+            model = hil::load_board_file(cli.board_file).model;
+        }
+        SketchBuildOptions b;
+        b.fqbn = hil::board_description(model).fqbn;
+        for (const auto& dir : cli.libraries) b.libraries.emplace_back(dir);
+        const SketchBuild built = build_sketch(cli.sketch, b);
+        std::fprintf(stderr, "%s\n", describe_libraries(built).c_str());  // even with -q: what was built from what
+        o.firmware = built.elf;
+        o.firmware_source = sketch_build_json(built);
+    }
+    o.unity = cli.unity;
+}
+
 /// The options `run` and `profile` share, and their action.
 Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
     cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
     cli->options.profile = profile_always;
-    sub->add_option("--firmware", cli->options.firmware,
+    cli->firmware_option = sub->add_option("--firmware", cli->options.firmware,
                     "Firmware ELF for the board's MCU (the ATmega328P on the default Uno)")
         ->capture_default_str();
+    sub->add_option("--sketch", cli->sketch,
+                    "Build this Arduino sketch (x/x.ino) for the board with arduino-builder (cached) and run it, "
+                    "instead of --firmware (docs/firmware.md)")
+        ->check(CLI::ExistingFile);
+    sub->add_option("--libraries", cli->libraries,
+                    "A folder of Arduino libraries for --sketch (repeatable; after the sketch's src/, before "
+                    "~/Arduino/libraries)")
+        ->check(CLI::ExistingDirectory);
+    sub->add_option("--platformio", cli->platformio,
+                    "Run the ELF `pio run` left in this PlatformIO project (.pio/build/ENV/firmware.elf), on "
+                    "the board its platformio.ini names, instead of --firmware")
+        ->check(CLI::ExistingDirectory);
+    sub->add_option("--env", cli->pio_env,
+                    "The PlatformIO environment for --platformio [default: default_envs' first, or the only one]");
+    sub->add_flag("--unity", cli->unity,
+                  "Unity tests (pio test): the UART on stdout as it comes, the run complete when Unity's summary "
+                  "(N Tests N Failures N Ignored, then OK or FAIL) has come; exit 0 for OK, 1 for FAIL");
     sub->add_option("--contract", cli->contract,
                     "Sketch contract (YAML, docs/contracts.md): how to start the firmware, when its run is "
                     "complete, its report, pose, loop and EEPROM log; default: the reference sketch's "
@@ -162,6 +227,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
 
     return Subcommand{sub, [cli, profile_always]() {
         FirmwareRunOptions o = cli->options;
+        resolve_firmware(*cli, o);
         o.out_dir = cli->out_dir.empty()
                         ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
                         : cli->out_dir;
@@ -189,15 +255,17 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         o.progress = !cli->quiet && (cli->progress || ::isatty(STDERR_FILENO) != 0);
         if (cli->gdb_port != 0) o.gdb_port = static_cast<uint16_t>(cli->gdb_port);
         const FirmwareRunResult r = run_firmware(o);
+        // With --unity stdout carries the firmware's Unity output only (pio test parses it).
+        FILE* out = o.unity ? stderr : stdout;
         const double sim_s = hil::cycles_to_s(r.cycles_total, r.clock_hz);
-        std::printf("%s: %s after %.3f simulated s (%llu cycles) in %.2f s wall, %.1f Mcycles/s\n",
+        std::fprintf(out, "%s: %s after %.3f simulated s (%llu cycles) in %.2f s wall, %.1f Mcycles/s\n",
                     o.out_dir.c_str(), to_string(r.exit), sim_s,
                     static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
                     r.wall_seconds > 0 ? static_cast<double>(r.cycles_total) / r.wall_seconds / 1e6 : 0.0);
         if (r.exit == RunExit::kTimeLimit) {
             const std::string uart_txt =
                 o.baud ? fmt::format("uart.txt: what the adapter at {} baud decoded", *o.baud) : "all in uart.txt";
-            std::printf("plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; encoder edges %llu / %llu (lost "
+            std::fprintf(out, "plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; encoder edges %llu / %llu (lost "
                         "%llu / %llu); %llu bytes sent on %s (%s)\n",
                         r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
                         static_cast<unsigned long long>(r.encoder[0].edges_injected),
@@ -206,7 +274,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         static_cast<unsigned long long>(r.encoder[1].lost_edges),
                         static_cast<unsigned long long>(r.uart_bytes), o.serial_port.c_str(), uart_txt.c_str());
             if (!r.function_profile_top.empty()) {
-                std::printf("%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
+                std::fprintf(out, "%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
             }
             return kExitOk;
         }
@@ -214,20 +282,25 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
             std::fprintf(stderr, "ddmr-hil run: %s\n", r.message.c_str());
             return kExitFirmware;
         }
+        if (r.unity) {
+            std::fprintf(stderr, "Unity: %u tests, %u failures, %u ignored: %s\n", r.unity->tests, r.unity->failures,
+                         r.unity->ignored, r.unity->ok ? "OK" : "FAIL");
+            return r.unity->ok ? kExitOk : kExitCheckFailed;
+        }
         const auto& rep = r.report;
         if (r.has_report) {
             // The report's dump has one line more than the log has samples
             // (its last line, j = addr, is a byte the run never wrote).
-            std::printf("firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
+            std::fprintf(out, "firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
                         "theta %.4f rad, %zu EEPROM log samples\n",
                         rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
                         rep.ey.value_or(0), rep.theta.value_or(0), r.eeprom_log_samples);
         } else if (r.end_pose_firmware) {
-            std::printf("firmware pose estimate: (%.4f, %.4f) m, theta %.4f rad; %zu EEPROM log samples\n",
+            std::fprintf(out, "firmware pose estimate: (%.4f, %.4f) m, theta %.4f rad; %zu EEPROM log samples\n",
                         r.end_pose_firmware->x_m, r.end_pose_firmware->y_m, r.end_pose_firmware->theta_rad,
                         r.eeprom_log_samples);
         }
-        std::printf("plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; %llu loop iterations, "
+        std::fprintf(out, "plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; %llu loop iterations, "
                     "mean period %.3f ms; lost encoder edges %llu / %llu\n",
                     r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
                     static_cast<unsigned long long>(r.loop_iterations), r.mean_loop_period_s * 1e3,
@@ -240,7 +313,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
             const auto cyc_us = [&](double cycles) {
                 return fmt::format("{:.0f} cycles ({:.1f} us)", cycles, cycles / r.clock_hz * 1e6);
             };
-            std::printf("loop profile: %zu iterations measured (all but the first, which has no start):\n",
+            std::fprintf(out, "loop profile: %zu iterations measured (all but the first, which has no start):\n",
                         r.loop_profile.size());
             for (const bool eeprom : {false, true}) {
                 hil::Cycles max_compute = 0, max_period = 0, sum_compute = 0, sum_period = 0;
@@ -255,22 +328,22 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                 }
                 if (n == 0) continue;
                 const double dn = static_cast<double>(n);
-                std::printf("  %4zu %-24s compute mean %s, max %s; period mean %.3f ms, max %.3f ms\n", n,
+                std::fprintf(out, "  %4zu %-24s compute mean %s, max %s; period mean %.3f ms, max %.3f ms\n", n,
                             eeprom ? "with an EEPROM write" : "without an EEPROM write",
                             cyc_us(static_cast<double>(sum_compute) / dn).c_str(),
                             cyc_us(static_cast<double>(max_compute)).c_str(),
                             hil::cycles_to_s(sum_period, r.clock_hz) / dn * 1e3,
                             hil::cycles_to_s(max_period, r.clock_hz) * 1e3);
             }
-            std::printf("  details in loop_profile.csv and summary.json\n");
+            std::fprintf(out, "  details in loop_profile.csv and summary.json\n");
             if (r.eeprom_writes > r.eeprom_writes_recorded) {
-                std::printf("loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
+                std::fprintf(out, "loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
                             "the last of them are not tagged eeprom_write\n",
                             static_cast<unsigned long long>(r.eeprom_writes), r.eeprom_writes_recorded);
             }
         }
         if (!r.function_profile_top.empty()) {
-            std::printf("%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
+            std::fprintf(out, "%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
         }
         return kExitOk;
     }};

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "common/atomic_file.hpp"
+#include "common/sketch_build.hpp"
 #include "scenario/step_catalog.hpp"
 #include "common/spawn.hpp"
 #include "exit_codes.hpp"
@@ -27,7 +28,6 @@
 #include "hil/elf_image.hpp"
 #include "scenario/scenario_runner.hpp"
 #include "scenario/scenario_yaml.hpp"
-#include "scenario/sketch_build.hpp"
 #include "scenario/suite_results.hpp"
 
 namespace ddmr::tools {
@@ -41,6 +41,7 @@ struct ScenarioCli {
     std::string out_dir = "scenario-results";
     std::string junit;
     std::string firmware;
+    std::vector<std::string> libraries;  ///< --libraries DIR (repeatable)
     unsigned jobs = 0;
     std::string shard;
     double wall_timeout_s = 600.0;
@@ -63,7 +64,13 @@ sc::LoadOptions load_options(const ScenarioCli& cli) {
 sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
     sc::Scenario s = sc::load_scenario(file, load_options(cli));
     if (s.sketch) {
-        s.firmware = sc::build_sketch(*s.sketch, sc::default_sketch_cache(), hil::board_description(s.board.model).fqbn);
+        SketchBuildOptions o;
+        o.fqbn = hil::board_description(s.board.model).fqbn;
+        o.libraries = s.libraries;
+        for (const auto& dir : cli.libraries) o.libraries.emplace_back(dir);
+        s.sketch_build = build_sketch(*s.sketch, o);
+        s.firmware = s.sketch_build->elf;
+        if (!cli.worker) std::fprintf(stderr, "%s\n", describe_libraries(*s.sketch_build).c_str());
     }
     sc::check_firmware_names(s);
     return s;
@@ -187,6 +194,7 @@ int run_suite(const ScenarioCli& cli) {
         fs::remove(dir / "result.json");
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
+        for (const auto& lib : cli.libraries) args.insert(args.end(), {"--libraries", fs::absolute(lib).string()});
         if (cli.update_golden) args.emplace_back("--update-golden");
         if (cli.progress) {
             args.emplace_back("--progress");
@@ -268,6 +276,10 @@ Subcommand register_scenario_command(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--junit", cli->junit, "Also write JUnit XML here");
     sub->add_option("--firmware", cli->firmware, "Run every scenario on this ELF instead of the one it names");
+    sub->add_option("--libraries", cli->libraries,
+                    "A folder of Arduino libraries for the sketches scenarios build (repeatable; after the "
+                    "sketch's src/ and the scenario's libraries:, before ~/Arduino/libraries; docs/firmware.md)")
+        ->check(CLI::ExistingDirectory);
     sub->add_option("-j,--jobs", cli->jobs, "Scenarios run at once, each in its own process [default: all cores]")
         ->check(CLI::Range(1U, 256U));
     sub->add_option("--shard", cli->shard,

@@ -3,24 +3,14 @@
  * 19200 baud (U2X1, UBRR1 = 103: a bit is (103 + 1) x 8 = 832 cycles at
  * 16 MHz, datasheet 2549Q 22.3.1) and echoes every byte upper-cased; Serial
  * (USART0) at 9600 baud prints "usart0\r\n" once at start. No Arduino core. */
-#include <avr/io.h>
-
-static void put0(const char* s) {
-    for (; *s != '\0'; ++s) {
-        while (!(UCSR0A & _BV(UDRE0))) {
-        }
-        UDR0 = (unsigned char)*s;
-    }
-}
+#include "usart0.h"
 
 int main(void) {
-    UCSR0A = _BV(U2X0);
-    UBRR0 = 207;
-    UCSR0B = _BV(TXEN0);
+    usart0_begin_9600();
     UCSR1A = _BV(U2X1);
     UBRR1 = 103;
     UCSR1B = _BV(TXEN1) | _BV(RXEN1);
-    put0("usart0\r\n");
+    usart0_put("usart0\r\n");
     for (;;) {
         while (!(UCSR1A & _BV(RXC1))) {
         }

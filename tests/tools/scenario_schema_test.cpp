@@ -81,6 +81,9 @@ TEST(ScenarioSchema, RefusesWhatTheParserRefuses) {
         {"timeout: 1s\nsteps:\n  - wait-serial: {text: END, timout: 1s}\n", "steps/0"},  // misspelled step key
         {"timeout: 1s\nsteps:\n  - delay: 100\n", "steps/0"},                           // a duration without a unit
         {"timeout: 1s\nsteps:\n  - expect: {signal: x_m, op: \"=>\", value: 1}\n", "steps/0"},
+        {"timeout: 1s\nfirmware: {sketch: a/a.ino}\nlibraries: libs\nsteps:\n  - delay: 1ms\n", "libraries"},  // not a list
+        {"timeout: 1s\nfirmware: {platformio: p, elf: x.elf}\nsteps:\n  - delay: 1ms\n", "firmware"},  // two firmwares
+        {"timeout: 1s\nfirmware: {elf: x.elf, env: uno}\nsteps:\n  - delay: 1ms\n", "firmware"},  // env without platformio
     };
     int k = 0;
     for (const auto& [text, where] : cases) {

@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "common/sketch_build.hpp"
 #include "hil/cycle_time.hpp"
 #include "hil/eeprom_write_timing.hpp"
 #include "hil/firmware_variables.hpp"
@@ -186,8 +187,15 @@ struct Scenario {
     std::string name;                    ///< default: the file's stem
     std::string description;
     std::filesystem::path firmware;      ///< ELF (empty until the sketch is built, if one is named)
-    /// `firmware: {sketch: x/x.ino}`: built by sketch_build.hpp before the run.
+    /// `firmware: {sketch: x/x.ino}`: built by common/sketch_build.hpp before the run.
     std::optional<std::filesystem::path> sketch;
+    /// `libraries: [DIR, ...]` (relative to the scenario file): the sketch's
+    /// library folders, before the sketchbook's (common/arduino_libraries.hpp).
+    std::vector<std::filesystem::path> libraries;
+    /// The sketch's build (what arduino-builder used), once built: result.json's `sketch`.
+    std::optional<SketchBuild> sketch_build;
+    /// `firmware: {platformio: DIR, env: NAME}`: result.json's `platformio` (null otherwise).
+    nlohmann::json firmware_source = nullptr;
     plant::RobotParams plant = plant::default_robot_params();  ///< file + overrides + seed
     std::optional<std::filesystem::path> plant_file;
     hil::BoardWiring board = hil::default_board();        ///< `board:` file, else the thesis robot

@@ -784,6 +784,8 @@ private:
             {"name", r.name},
             {"file", r.file.string()},
             {"firmware", s_.firmware.string()},
+            {"sketch", s_.sketch_build ? sketch_build_json(*s_.sketch_build) : json(nullptr)},
+            {"platformio", s_.firmware_source},
             {"seed", s_.seed},
             {"baud", s_.baud},
             {"verdict", to_string(r.verdict)},

@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/platformio_project.hpp"
 #include "hil/board.hpp"
 #include "hil/plant_coupler.hpp"
 #include "plant/params_yaml.hpp"
@@ -610,20 +611,47 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
             throw ScenarioError(e.what());
         }
     }
+    // A PlatformIO project names its board: read before anything the board gives meaning to.
+    std::optional<PlatformioProject> pio;
+    if (!options.firmware_override && root["firmware"] && root["firmware"].IsMap() && root["firmware"]["platformio"]) {
+        const Ctx c(file, root["firmware"], "firmware", hil::board_description(s.board.model), &s.board);
+        c.keys({"platformio", "env"}, {"platformio"});
+        const Ctx d = c.child("platformio");
+        const fs::path p(d.str());
+        if (p.is_absolute()) d.fail(fmt::format("'{}' is absolute: a scenario's paths are relative to its file", p.string()));
+        const std::string env = c.has("env") ? c.child("env").str() : std::string();
+        try {
+            pio = load_platformio_project((fs::absolute(file).parent_path() / p).lexically_normal(), env);
+        } catch (const std::invalid_argument& e) {
+            d.fail(e.what());
+        }
+        if (s.board_file && s.board.model != pio->board) {
+            d.fail(fmt::format("[env:{}] is for board {} ({}), the board file {} for {}", pio->env, pio->board_id,
+                               hil::board_description(pio->board).key, s.board_file->string(),
+                               hil::board_description(s.board.model).key));
+        }
+        s.board.model = pio->board;  // without a board file: the thesis robot's wiring on that board
+        s.firmware = pio->elf;
+        s.firmware_source = platformio_json(*pio);
+    }
     const hil::BoardDescription& board = hil::board_description(s.board.model);
     const Ctx top(file, root, "(top)", board, &s.board);
-    top.keys({"name", "description", "version", "author", "firmware", "board", "plant", "pwm", "eeprom-timing",
-              "seed", "timeout", "serial", "eeprom", "steps"},
+    top.keys({"name", "description", "version", "author", "firmware", "libraries", "board", "plant", "pwm",
+              "eeprom-timing", "seed", "timeout", "serial", "eeprom", "steps"},
              {"steps", "timeout"});
     s.name = root["name"] ? top.at(root["name"], "name").str() : file.stem().string();
     if (root["description"]) s.description = top.at(root["description"], "description").str();
     // Firmware: the command line's, else the file's, else the reference.
     if (options.firmware_override) {
         s.firmware = *options.firmware_override;
+    } else if (pio) {
+        // read above
     } else if (root["firmware"] && root["firmware"].IsMap()) {
         const Ctx c = top.at(root["firmware"], "firmware");
-        c.keys({"elf", "sketch"});
-        if (c.has("elf") == c.has("sketch")) c.fail("give one of elf (a built ELF) or sketch (a .ino to build)");
+        c.keys({"elf", "sketch", "platformio"});
+        if (c.has("elf") == c.has("sketch")) {
+            c.fail("give one of elf (a built ELF), sketch (a .ino to build) or platformio (a project folder)");
+        }
         if (c.has("elf")) {
             s.firmware = existing_file(c.child("elf"));
         } else {
@@ -639,6 +667,25 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         s.firmware = existing_file(top.at(root["firmware"], "firmware"));
     } else {
         s.firmware = options.reference_firmware;
+    }
+    if (root["libraries"]) {
+        // Library folders for the sketch: relative to the scenario file (they
+        // may be outside its folder: a sketchbook's libraries/ beside it).
+        const Ctx c = top.at(root["libraries"], "libraries");
+        if (!s.sketch && !options.firmware_override) c.fail("only a scenario that builds a sketch (firmware: {sketch: x/x.ino}) takes libraries");
+        if (!c.node().IsSequence()) c.fail("expected a list of folders, like [../libraries]");
+        const fs::path folder = fs::absolute(file).parent_path();
+        for (std::size_t i = 0; i < c.node().size(); ++i) {
+            const Ctx d = top.at(c.node()[i], fmt::format("libraries[{}]", i));
+            const fs::path p(d.str());
+            if (p.is_absolute()) {
+                d.fail(fmt::format("'{}' is absolute: a scenario's library folders are relative to its file "
+                                   "(give a machine's own folders with --libraries DIR)", p.string()));
+            }
+            const fs::path full = (folder / p).lexically_normal();
+            if (!fs::is_directory(full)) d.fail(fmt::format("'{}' is not a folder ({})", p.string(), full.string()));
+            s.libraries.push_back(full);
+        }
     }
     if (root["seed"]) s.seed = top.at(root["seed"], "seed").count();
     s.timeout = top.at(root["timeout"], "timeout").duration();

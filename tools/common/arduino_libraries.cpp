@@ -1,0 +1,73 @@
+#include "common/arduino_libraries.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+namespace ddmr::tools {
+namespace fs = std::filesystem;
+
+std::optional<fs::path> sketchbook_libraries() {
+    if (const char* user = std::getenv("ARDUINO_DIRECTORIES_USER"); user != nullptr && *user != '\0') {
+        return fs::path(user) / "libraries";
+    }
+    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+        return fs::path(home) / "Arduino" / "libraries";
+    }
+    return std::nullopt;
+}
+
+LibraryFolders library_folders(const fs::path& ino, const std::vector<fs::path>& named) {
+    LibraryFolders f;
+    const auto add = [&f](const fs::path& dir) {
+        const fs::path abs = fs::absolute(dir).lexically_normal();
+        for (const auto& seen : f.searched) {
+            if (seen == abs) return;  // named twice: once is enough
+        }
+        f.searched.push_back(abs);
+        if (fs::is_directory(abs)) f.existing.push_back(abs);
+    };
+    add(fs::absolute(ino).parent_path() / "src");
+    for (const auto& dir : named) {
+        if (!fs::is_directory(dir)) {
+            throw std::invalid_argument(fmt::format("--libraries {}: no such folder", dir.string()));
+        }
+        add(dir);
+    }
+    if (const auto book = sketchbook_libraries()) add(*book);
+    return f;
+}
+
+std::vector<UsedLibrary> parse_used_libraries(const std::string& log) {
+    // arduino-builder 1.3.25 (legacy/builder/phases/libraries_builder.go's
+    // messages): "Using library Servo at version 1.1.8 in folder: /x/Servo "
+    // and "Using library Foo in folder: /x/Foo (legacy)".
+    static const std::regex versioned(R"(^Using library (.+) at version (\S+) in folder: (.+?)\s*$)");
+    static const std::regex legacy(R"(^Using library (.+) in folder: (.+?)(?: \(legacy\))?\s*$)");
+    std::vector<UsedLibrary> used;
+    std::istringstream in(log);
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        if (std::regex_match(line, m, versioned)) {
+            used.push_back({m[1].str(), m[2].str(), fs::path(m[3].str())});
+        } else if (std::regex_match(line, m, legacy)) {
+            used.push_back({m[1].str(), "", fs::path(m[2].str())});
+        }
+    }
+    return used;
+}
+
+std::optional<MissingHeader> find_missing_header(const std::string& log) {
+    static const std::regex missing(R"(^(.+?):([0-9]+):(?:[0-9]+:)? fatal error: (.+?): No such file or directory\s*$)");
+    std::istringstream in(log);
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        if (std::regex_match(line, m, missing)) return MissingHeader{fs::path(m[1].str()), std::stoi(m[2].str()), m[3].str()};
+    }
+    return std::nullopt;
+}
+
+}  // namespace ddmr::tools
