@@ -32,13 +32,22 @@ int run_inherited(const std::vector<std::string>& args) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// The folders make_report.py plots: a run's (or profile's), a sim's, a
+/// scenario suite's (a report per scenario and an index) and one scenario's.
+bool reportable(FolderKind kind) {
+    return kind == FolderKind::run || kind == FolderKind::sim || kind == FolderKind::scenario ||
+           kind == FolderKind::scenario_result;
+}
+
 int run_report(const std::string& dir) {
     const FolderKind kind = folder_kind(dir);
-    if (kind != FolderKind::run) {
-        throw std::invalid_argument(fmt::format("{}: {}; report takes the output folder of `ddmr-hil run` or `profile`{}",
+    if (!reportable(kind)) {
+        throw std::invalid_argument(fmt::format("{}: {}; report takes the output folder of `ddmr-hil run`, `profile`, "
+                                                "`sim` or `scenario` (or one scenario's sub-folder){}",
                                                 dir, describe(kind),
                                                 kind == FolderKind::calibrate ? " (a calibration writes its own report.md)"
-                                                                               : ""));
+                                                : kind == FolderKind::sweep   ? " (a sweep plots its own figures)"
+                                                                              : ""));
     }
     if (!fs::is_regular_file(kPython)) {
         throw std::runtime_error(fmt::format("{} is missing: apt-get install python3 python3-matplotlib", kPython));
@@ -62,9 +71,13 @@ Subcommand register_report_command(CLI::App& app) {
     auto dir = std::make_shared<std::string>();
     CLI::App* sub = app.add_subcommand(
         "report",
-        "Plot a run or profile output folder and write its report.md (X-Y, tracking error, wheel speeds, drive, "
-        "currents and battery as PWM-window means) with Debian's python3-matplotlib");
-    sub->add_option("RUN_DIR", *dir, "A folder written by `ddmr-hil run` or `profile` (and `compare`)")->required();
+        "Plot a run, profile, sim or scenario output folder and write its report.md (X-Y, tracking error, wheel "
+        "speeds, drive, currents and battery as PWM-window means; a scenario's steps and verdicts, a suite's index) "
+        "with Debian's python3-matplotlib");
+    sub->add_option("DIR", *dir,
+                    "A folder written by `ddmr-hil run` or `profile` (and `compare`), `sim`, or `scenario` (the suite: "
+                    "a report per scenario and an index; or one scenario's sub-folder)")
+        ->required();
     return {sub, [dir] { return run_report(*dir); }};
 }
 

@@ -20,6 +20,7 @@ FolderKind folder_kind(const fs::path& dir) {
         return FolderKind::other;
     }
     if (fs::is_regular_file(dir / "results.json", ec)) return FolderKind::scenario;
+    if (fs::is_regular_file(dir / "result.json", ec)) return FolderKind::scenario_result;
     if (fs::is_regular_file(dir / "sweep.json", ec)) return FolderKind::sweep;
     if (fs::is_regular_file(dir / "calibration.json", ec)) return FolderKind::calibrate;
     return FolderKind::other;
@@ -32,11 +33,13 @@ std::string describe(FolderKind kind) {
         case FolderKind::run: return "a `ddmr-hil run` (or `profile`) output folder";
         case FolderKind::sim: return "a `ddmr-hil sim` output folder";
         case FolderKind::scenario: return "a `ddmr-hil scenario` output folder (one sub-folder per scenario)";
+        case FolderKind::scenario_result: return "one scenario's folder of a `ddmr-hil scenario` output folder";
         case FolderKind::sweep: return "a `ddmr-hil sweep` output folder";
         case FolderKind::calibrate: return "a `ddmr-hil calibrate` output folder";
         case FolderKind::other: break;
     }
-    return "a folder without ddmr-hil's outputs (no run's summary.json, results.json, sweep.json or calibration.json)";
+    return "a folder without ddmr-hil's outputs (no run's summary.json, results.json, result.json, sweep.json or "
+           "calibration.json)";
 }
 
 }  // namespace ddmr::tools

@@ -1,107 +1,90 @@
 #!/usr/bin/python3
-"""Plots a ddmr-hil run and writes report.md beside its artifacts.
+"""Plots a ddmr-hil output folder and writes report.md beside its artifacts.
 
-Usage: make_report.py RUN_DIR
+Usage: make_report.py DIR     (run by `ddmr-hil report DIR`)
 
-Reads RUN_DIR/summary.json, truth.csv, firmware.csv, eeprom_log.csv and, when
-present, sim.csv and compare.json (written by `ddmr-hil compare`). Writes PNG
-and SVG plots (X-Y trajectories, tracking error, wheel speeds, drive, motor
-currents, battery voltage) and report.md, which embeds them with the key
-numbers. Output is deterministic: the same run gives the same bytes.
+DIR is told apart by its files, as `ddmr-hil report` does:
+- a `run` or `profile` folder (summary.json with clock_hz): reads summary.json,
+  truth.csv, firmware.csv, eeprom_log.csv and, when present, sim.csv and
+  compare.json (written by `ddmr-hil compare`); plots X-Y trajectories,
+  tracking error, wheel speeds, drive, motor currents, battery voltage;
+- a `sim` folder (summary.json with model and fidelity): sim_report.py;
+- a `scenario` folder (results.json) or one scenario's sub-folder
+  (result.json): scenario_report.py.
+Writes PNG and SVG plots and report.md, which embeds them, a caption under
+each, with the key numbers. Output is deterministic: the same folder gives
+the same bytes.
 """
-import csv
 import json
 import math
 import os
 import sys
 
-from plot_common import plt, save as save_figure
+import scenario_report
+import sim_report
+from plot_common import (CAPTIONS, distance, finish_time_plot, finish_xy, goal_circle, isr_section,
+                         not_available_section, plant_plots, plot_sections, plt, read_csv, read_csv_if_present,
+                         write_markdown, xy_axes)
 
 # The reference sketch's goal circles: radius [m], period [s].
 CASES = {1: (0.6, 12.0), 2: (0.4, 8.0)}
-
-
-def read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    return {k: [float(r[k]) for r in rows] for k in (rows[0].keys() if rows else [])}
-
-
-# The Uno's 490 Hz phase-correct PWM: 1 / 490.2 s. Currents and the battery
-# voltage follow each PWM pulse; sampled at 1 kHz (truth.csv) they alias into
-# solid blocks. Plotted instead: the mean over windows of whole PWM periods,
-# and the envelope (min and max) of each window. The window is 25 periods
-# (51.0 ms): 1 kHz against 490.196 Hz beats at |1000 - 2 x 490.196| = 19.61 Hz,
-# one beat every 51.0 ms, so a window's 51 samples fall at evenly spread
-# phases of the PWM cycle and their mean is the cycle's mean.
-PWM_PERIOD_S = 510.0 * 64 / 16e6  # Timer1/2 phase-correct 8-bit (TOP 255: 510 counts), prescaler 64
-WINDOW_PERIODS = 25
-
-
-def window_stats(t, y, window_s):
-    """Consecutive windows of window_s [s] from t[0]: (centre time, mean, min,
-    max) of the samples in each; a last partial window is dropped."""
-    out = []
-    if not t:
-        return out
-    start, i, n = t[0], 0, len(t)
-    while True:
-        end = start + window_s
-        j = i
-        while j < n and t[j] < end:
-            j += 1
-        if j >= n:  # partial window at the end
-            break
-        if j > i:
-            chunk = y[i:j]
-            out.append((start + window_s / 2, sum(chunk) / len(chunk), min(chunk), max(chunk)))
-        i, start = j, end
-    return out
 
 
 def fmt_int(v):
     return "n/a" if v is None else f"{v:.0f}"
 
 
-def save(fig, run_dir, name):
-    fig.tight_layout()
-    save_figure(fig, run_dir, name)
-    return name
+def folder_kind(folder):
+    """run (also profile), sim, scenario (a suite: results.json), scenario_result
+    (one scenario's sub-folder: result.json) or other; the same files
+    `ddmr-hil report` tells apart (tools/common/output_folder.cpp)."""
+    summary = os.path.join(folder, "summary.json")
+    if os.path.isfile(summary):
+        try:
+            with open(summary) as f:
+                j = json.load(f)
+        except ValueError:
+            return "other"
+        if isinstance(j, dict) and "clock_hz" in j:
+            return "run"
+        if isinstance(j, dict) and "model" in j and "fidelity" in j:
+            return "sim"
+        return "other"
+    if os.path.isfile(os.path.join(folder, "results.json")):
+        return "scenario"
+    if os.path.isfile(os.path.join(folder, "result.json")):
+        return "scenario_result"
+    return "other"
 
 
-def main(argv):
-    if len(argv) != 2:
-        sys.stderr.write("usage: make_report.py RUN_DIR\n")
-        return 2
-    run_dir = argv[1]
-    try:
-        with open(os.path.join(run_dir, "summary.json")) as f:
-            summary = json.load(f)
-        truth = read_csv(os.path.join(run_dir, "truth.csv"))
-        fw = read_csv(os.path.join(run_dir, "firmware.csv"))
-        log = read_csv(os.path.join(run_dir, "eeprom_log.csv"))
-    except (OSError, ValueError, KeyError) as e:
-        sys.stderr.write(f"make_report.py: error: {run_dir}: {e}\n")
-        return 2
-    sim_path = os.path.join(run_dir, "sim.csv")
-    sim = read_csv(sim_path) if os.path.exists(sim_path) else None
-    cmp_path = os.path.join(run_dir, "compare.json")
-    compare = json.load(open(cmp_path)) if os.path.exists(cmp_path) else None
+def run_report(run_dir):
+    """Plots a run (or profile) folder and writes its report.md; returns [its path]."""
+    with open(os.path.join(run_dir, "summary.json")) as f:
+        summary = json.load(f)
+    truth = read_csv(os.path.join(run_dir, "truth.csv"))
+    fw = read_csv(os.path.join(run_dir, "firmware.csv"))
+    log = read_csv(os.path.join(run_dir, "eeprom_log.csv"))
+    sim = read_csv_if_present(os.path.join(run_dir, "sim.csv"))
+    compare = None
+    if os.path.exists(os.path.join(run_dir, "compare.json")):
+        with open(os.path.join(run_dir, "compare.json")) as f:
+            compare = json.load(f)
 
     case = summary.get("case", 1)
     radius, period = CASES.get(case, (0.6, 12.0))
     ready_s = (summary.get("ready_cycle") or 0) / summary["board"]["clock_hz"]  # the board's clock
     t_case = [t - ready_s for t in truth["t_s"]]
     in_case = [i for i, t in enumerate(t_case) if 0.0 <= t <= period + 0.5]
+    t_in = [t_case[i] for i in in_case]
+    x_in = [truth["x_m"][i] for i in in_case]
+    y_in = [truth["y_m"][i] for i in in_case]
+    xlabel = "time since the case byte [s]"
     plots = []
 
     # X-Y trajectories.
-    fig, ax = plt.subplots(figsize=(6.5, 7.3))
-    a = [2 * math.pi * k / 360 for k in range(361)]
-    ax.plot([radius * math.cos(x) for x in a], [radius * math.sin(x) for x in a], "k--", lw=1,
-            label=f"goal circle ({radius} m, {period:g} s)")
-    ax.plot([truth["x_m"][i] for i in in_case], [truth["y_m"][i] for i in in_case], lw=1.5,
-            label="plant truth (HIL)")
+    fig, ax = xy_axes()
+    goal_circle(ax, radius, period)
+    ax.plot(x_in, y_in, lw=1.5, label="plant truth (HIL)")
     if log:
         ax.plot(log["x_m"], log["y_m"], "o", ms=3, label="firmware EEPROM log")
     if sim:
@@ -109,68 +92,22 @@ def main(argv):
     ax.plot([0], [0], "g^", ms=9, label="start")
     end = summary["end_pose_truth"]
     ax.plot([end["x_m"]], [end["y_m"]], "rs", ms=8, label="end (truth)")
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title(f"Case {case}: trajectories")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=3, fontsize=8)
-    plots.append(save(fig, run_dir, "xy"))
+    plots.append(finish_xy(fig, ax, f"Case {case}: trajectories", run_dir))
 
     # Tracking error over time.
     w = 2 * math.pi / period
-    err = []
-    for i in in_case:
-        tc = t_case[i]
-        gx, gy = radius * math.cos(w * tc), radius * math.sin(w * tc)
-        err.append(math.hypot(gx - truth["x_m"][i], gy - truth["y_m"][i]))
+    err = distance(x_in, y_in, [radius * math.cos(w * t) for t in t_in], [radius * math.sin(w * t) for t in t_in])
     fig, ax = plt.subplots(figsize=(8, 4))
-    ax.plot([t_case[i] for i in in_case], err, label="|goal - truth|")
+    ax.plot(t_in, err, label="|goal - truth|")
     if fw:
         fw_t = [t - ready_s for t in fw["t_avr_s"]]
         ax.plot(fw_t, [math.hypot(x, y) for x, y in zip(fw["errx"], fw["erry"])], lw=1,
                 label="|goal - firmware estimate| (errx, erry)")
-    ax.set_xlabel("time since the case byte [s]")
-    ax.set_ylabel("tracking error [m]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    plots.append(save(fig, run_dir, "tracking_error"))
+    plots.append(finish_time_plot(fig, ax, xlabel, "tracking error [m]", run_dir, "tracking_error"))
 
-    def series(name, keys, labels, ylabel):
-        fig, ax = plt.subplots(figsize=(8, 3.5))
-        for k, lab in zip(keys, labels):
-            ax.plot([t_case[i] for i in in_case], [truth[k][i] for i in in_case], lw=1, label=lab)
-        ax.set_xlabel("time since the case byte [s]")
-        ax.set_ylabel(ylabel)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-        plots.append(save(fig, run_dir, name))
-
-    series("wheel_speeds", ["wheel1_rad_s", "wheel2_rad_s"], ["wheel 1 (right)", "wheel 2 (left)"],
-           "wheel speed [rad/s]")
-    series("drive", ["duty1", "duty2", "dir1", "dir2"],
-           ["duty 1 (pin 10)", "duty 2 (pin 11)", "direction 1 (pin 12)", "direction 2 (pin 13)"],
-           "duty [0-1], direction [1 = forward]")
-    def pwm_series(name, keys, labels, ylabel):
-        """Mean per window of WINDOW_PERIODS PWM periods, with the envelope."""
-        fig, ax = plt.subplots(figsize=(8, 3.5))
-        window_s = WINDOW_PERIODS * PWM_PERIOD_S
-        for n, (k, lab) in enumerate(zip(keys, labels)):
-            st = window_stats([t_case[i] for i in in_case], [truth[k][i] for i in in_case], window_s)
-            tc = [w[0] for w in st]
-            colour = f"C{n}"
-            ax.fill_between(tc, [w[2] for w in st], [w[3] for w in st], color=colour, alpha=0.15, lw=0,
-                            label=f"{lab}: min-max per window")
-            ax.plot(tc, [w[1] for w in st], color=colour, lw=1.6, ls="-" if n == 0 else "--",
-                    label=f"{lab}: mean over {WINDOW_PERIODS} PWM periods ({window_s * 1e3:.1f} ms)")
-        ax.set_xlabel("time since the case byte [s]")
-        ax.set_ylabel(ylabel)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-        plots.append(save(fig, run_dir, name))
-
-    pwm_series("currents", ["ia1_A", "ia2_A"], ["motor 1 (right)", "motor 2 (left)"], "armature current [A]")
-    pwm_series("battery", ["vbatt_V"], ["battery terminal voltage"], "voltage [V]")
+    plant, missing = plant_plots(run_dir, truth, in_case, t_in, xlabel, "truth.csv",
+                                 "the motors were not driven during the case")
+    plots += plant
 
     rep = summary.get("firmware_report", {})
     enc = summary.get("encoder", {})
@@ -225,13 +162,9 @@ def main(argv):
                 lines.append(f"| {group.replace('_', ' ')} | {part} | {d['count']} | {d['min_us']:.1f} | "
                              f"{d['mean_us']:.1f} | {d['p99_us']:.1f} | {d['max_us']:.1f} |")
         lines.append("")
-    isr_md = os.path.join(run_dir, "isr.md")
-    if os.path.exists(isr_md):
-        with open(isr_md) as f:
-            lines += ["## ISR timing", "", f.read(), ""]
-    titles = {"xy": "X-Y trajectories", "tracking_error": "Tracking error", "wheel_speeds": "Wheel speeds",
-              "drive": "Drive (duty and direction)", "currents": "Motor currents", "battery": "Battery voltage"}
-    captions = {
+    lines += isr_section(run_dir)
+    captions = dict(CAPTIONS)
+    captions.update({
         "xy": "The goal circle, where the plant went (truth), what the firmware logged (its own odometry, "
               "every 10th iteration) and, after `ddmr-hil compare`, the host simulation. Look at the end points: "
               "the thesis's metric is the end error over the length of the end vector.",
@@ -239,22 +172,30 @@ def main(argv):
                           "|goal - firmware estimate| is what the controller sees (its errx, erry). The "
                           "controller drives its own error to zero; the gap between the lines is the odometry's "
                           "drift (encoder quantisation, wheel radius and slip), which no feedback on it can see.",
-        "wheel_speeds": "The wheels' speeds from the plant: the outer (right) wheel turns faster on the circle.",
-        "drive": "What the L298 is told, per coupling step: duty (mean enable level) and direction.",
-        "currents": f"The motor currents, averaged over {WINDOW_PERIODS} PWM periods "
-                    f"({WINDOW_PERIODS * PWM_PERIOD_S * 1e3:.1f} ms), with their range in each window shaded: the "
-                    "current rises and falls with every 490 Hz pulse, so 1 kHz samples of it alias into blocks. "
-                    "Look at the means for the load, at the band for the ripple.",
-        "battery": "The battery's terminal voltage, averaged the same way: it dips with each pulse's current "
-                   "(internal resistance) and sags slowly with the charge drawn.",
-    }
-    for p in plots:
-        lines += [f"## {titles[p]}", "", f"![{titles[p]}]({p}.png)", "", f"*{captions[p]}*", ""]
-    tmp = os.path.join(run_dir, "report.md.tmp")
-    with open(tmp, "w") as f:
-        f.write("\n".join(lines))
-    os.replace(tmp, os.path.join(run_dir, "report.md"))
-    print(os.path.join(run_dir, "report.md"))
+    })
+    lines += plot_sections(plots, captions) + not_available_section(missing)
+    return [write_markdown(run_dir, lines)]
+
+
+def main(argv):
+    if len(argv) != 2:
+        sys.stderr.write("usage: make_report.py DIR   (a run, profile, sim or scenario output folder)\n")
+        return 2
+    folder = argv[1]
+    kind = folder_kind(folder)
+    reports = {"run": run_report, "sim": sim_report.report, "scenario": scenario_report.suite_report,
+               "scenario_result": scenario_report.scenario_report}
+    if kind not in reports:
+        what = "no such folder" if not os.path.isdir(folder) else "not a run, profile, sim or scenario output folder"
+        sys.stderr.write(f"make_report.py: error: {folder}: {what}\n")
+        return 2
+    try:
+        written = reports[kind](folder)
+    except (OSError, ValueError, KeyError) as e:
+        sys.stderr.write(f"make_report.py: error: {folder}: {e!r}\n")
+        return 2
+    for path in written:
+        print(path)
     return 0
 
 
