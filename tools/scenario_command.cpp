@@ -190,8 +190,8 @@ int run_suite(const ScenarioCli& cli) {
     const auto launch = [&](std::size_t i) {
         const sc::Scenario& s = scenarios[i];
         const fs::path dir = out / s.name;
+        fs::remove_all(dir);  // an earlier run's files (a failure_window.vcd) are not this run's
         fs::create_directories(dir);
-        fs::remove(dir / "result.json");
         std::vector<std::string> args = {exe, "scenario", "--worker", s.file.string(), "--out", dir.string()};
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
         for (const auto& lib : cli.libraries) args.insert(args.end(), {"--libraries", fs::absolute(lib).string()});

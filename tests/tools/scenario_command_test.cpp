@@ -452,3 +452,24 @@ TEST(ScenarioCommand, SameScenarioSameBytesAndParallelSameVerdicts) {
 
 }  // namespace
 }  // namespace ddmr::test
+
+namespace ddmr::test {
+namespace {
+
+TEST(ScenarioCommand, ARerunLeavesNoFileOfTheEarlierRun) {
+    TempDir dir;
+    // Fails first (pin 12 is low before the case byte), leaving its failure window ...
+    const auto f = write(dir, "again.yaml", "name: again\ntimeout: 1s\nsteps:\n  - delay: 10ms\n"
+                                            "  - expect-pin: { pin: 12, value: 1 }\n");
+    const auto first = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(first.exit_code, 1) << first.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "out/again/failure_window.vcd"));
+    // ... then passes into the same --out: no window of the failure it no longer has.
+    write(dir, "again.yaml", "name: again\ntimeout: 1s\nsteps:\n  - delay: 10ms\n  - expect-pin: { pin: 12, value: 0 }\n");
+    const auto second = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(second.exit_code, 0) << second.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out/again/failure_window.vcd"));
+}
+
+}  // namespace
+}  // namespace ddmr::test
