@@ -37,6 +37,7 @@
 #include "common/output_folder.hpp"
 #include "common/sim_csv.hpp"
 #include "comparison.hpp"
+#include "common/shell_quote.hpp"
 #include "exit_codes.hpp"
 #include "common/csv_table.hpp"
 #include "plant/params_yaml.hpp"
@@ -93,17 +94,6 @@ LoggedTrack logged_track(const fs::path& dir, const json& summary) {
     }
     if (track.points.empty()) throw std::runtime_error(dir.string() + ": the run has no logged samples to compare");
     return track;
-}
-
-/// `text` quoted for a POSIX shell when it needs it.
-std::string shell_quote(const std::string& text) {
-    if (!text.empty() && text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./-=:,") ==
-                             std::string::npos) {
-        return text;
-    }
-    std::string q = "'";
-    for (const char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
 }
 
 json metrics_json(const PairMetrics& m) {

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "common/shell_quote.hpp"
 #include "support/temp_dir.hpp"
 
 namespace ddmr::test {
@@ -70,13 +71,7 @@ inline void expect_refused(const std::string& command_prefix, const std::string&
     }
 }
 
-/// Quotes a path for /bin/sh.
-inline std::string sh_quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) {
-        if (c == '\'') q += "'\\''"; else q += c;
-    }
-    return q + "'";
-}
+/// Quotes a path for /bin/sh (the tool's own quoting).
+inline std::string sh_quote(const std::string& s) { return tools::shell_quote(s); }
 
 }  // namespace ddmr::test

@@ -67,17 +67,23 @@ void run_stage(nlopt::algorithm algorithm, int budget, std::vector<double> z, Pr
 
 }  // namespace
 
-FitResult fit(const std::vector<FitParam>& params, const std::function<double(const std::vector<double>&)>& loss,
-              const FitOptions& options) {
+void check_search_box(const std::vector<FitParam>& params, bool positive) {
     if (params.empty()) throw std::invalid_argument("calibrate: no parameter to fit");
     for (const FitParam& p : params) {
-        if (!(std::isfinite(p.lo) && std::isfinite(p.hi) && p.lo < p.hi)) {
-            throw std::invalid_argument(fmt::format("{}: the search range [{}, {}] is empty or not finite", p.key, p.lo, p.hi));
+        if (!(std::isfinite(p.lo) && std::isfinite(p.hi) && p.lo < p.hi && (!positive || p.lo > 0.0))) {
+            throw std::invalid_argument(fmt::format("{}: the search range [{}, {}] is {}", p.key, p.lo, p.hi,
+                                                    positive ? "empty, not finite or not positive"
+                                                             : "empty or not finite"));
         }
         if (!(p.start >= p.lo && p.start <= p.hi)) {
             throw std::invalid_argument(fmt::format("{}: the start {} is outside [{}, {}]", p.key, p.start, p.lo, p.hi));
         }
     }
+}
+
+FitResult fit(const std::vector<FitParam>& params, const std::function<double(const std::vector<double>&)>& loss,
+              const FitOptions& options) {
+    check_search_box(params, false);
     if (options.global_evaluations < 0 || options.local_evaluations < 1) {
         throw std::invalid_argument("calibrate: the global budget must be >= 0 and the local one >= 1");
     }

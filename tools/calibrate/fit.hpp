@@ -44,6 +44,12 @@ struct FitResult {
     double global_loss = 0.0;    ///< the best loss after the global stage (= the start's without one)
 };
 
+/// Throws std::invalid_argument naming the parameter: no parameters, a
+/// search range that is empty or not finite (or, with `positive`, reaches 0
+/// or below: a fit on the logarithm), a start outside its range. Both
+/// stages (fit, fit_least_squares) check their box with it.
+void check_search_box(const std::vector<FitParam>& params, bool positive);
+
 /// Minimises `loss` (the parameters' values in their units -> a finite
 /// number; a non-finite one counts as very bad) over the box. Throws
 /// std::invalid_argument naming the parameter for a bad box or start.

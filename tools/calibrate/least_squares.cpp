@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 #include <stdexcept>
 
 namespace ddmr::calibrate {
@@ -13,6 +15,15 @@ namespace {
 
 /// A residual this large stands for a value that is not a number (a diverged plant).
 constexpr double kNonFiniteResidual = 1e3;
+
+/// The parameters' values at z = ln(value), clamped into their box.
+std::vector<double> values_at(const std::vector<FitParam>& params, const Eigen::VectorXd& z) {
+    std::vector<double> v(static_cast<std::size_t>(z.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        v[i] = std::clamp(std::exp(z(static_cast<Eigen::Index>(i))), params[i].lo, params[i].hi);
+    }
+    return v;
+}
 
 struct Problem : Eigen::DenseFunctor<double> {
     const std::vector<FitParam>* params;
@@ -26,20 +37,22 @@ struct Problem : Eigen::DenseFunctor<double> {
             const std::function<std::vector<double>(const std::vector<double>&)>* r, const LeastSquaresOptions* o)
         : DenseFunctor<double>(n, m), params(p), residuals(r), options(o) {}
 
-    std::vector<double> values_of(const InputType& z) const {
-        std::vector<double> v(static_cast<std::size_t>(z.size()));
-        for (std::size_t i = 0; i < v.size(); ++i) {
-            const FitParam& p = (*params)[i];
-            v[i] = std::clamp(std::exp(z(static_cast<Eigen::Index>(i))), p.lo, p.hi);
-        }
-        return v;
-    }
+    std::vector<double> values_of(const InputType& z) const { return values_at(*params, z); }
+
+    /// The residuals at the start, evaluated (and counted) before the
+    /// minimiser to learn their number: its own first evaluation, there, reuses them.
+    std::optional<std::pair<InputType, std::vector<double>>> start;
 
     /// One evaluation; false when the budget is spent.
     bool eval(const InputType& z, ValueType& f) {
-        if (evaluations >= options->max_evaluations) return false;
+        const bool at_start = start && start->first == z;
+        if (!at_start && evaluations >= options->max_evaluations) return false;
         const std::vector<double> v = values_of(z);
-        const std::vector<double> r = (*residuals)(v);
+        const std::vector<double> r = at_start ? start->second : (*residuals)(v);
+        if (at_start) {
+            start.reset();
+            --evaluations;  // counted once, before the minimiser
+        }
         if (static_cast<int>(r.size()) != values()) throw std::runtime_error("least squares: the residuals changed size");
         f.resize(values());
         double ss = 0.0;
@@ -104,16 +117,7 @@ const char* status_text(Eigen::LevenbergMarquardtSpace::Status s) {
 LeastSquaresResult fit_least_squares(const std::vector<FitParam>& params,
                                      const std::function<std::vector<double>(const std::vector<double>&)>& residuals,
                                      const LeastSquaresOptions& options) {
-    if (params.empty()) throw std::invalid_argument("calibrate: no parameter to fit");
-    for (const FitParam& p : params) {
-        if (!(std::isfinite(p.lo) && std::isfinite(p.hi) && p.lo > 0.0 && p.lo < p.hi)) {
-            throw std::invalid_argument(fmt::format("{}: the search range [{}, {}] is empty, not finite or not positive",
-                                                    p.key, p.lo, p.hi));
-        }
-        if (!(p.start >= p.lo && p.start <= p.hi)) {
-            throw std::invalid_argument(fmt::format("{}: the start {} is outside [{}, {}]", p.key, p.start, p.lo, p.hi));
-        }
-    }
+    check_search_box(params, /*positive=*/true);  // the fit runs on ln(value)
     if (options.max_evaluations < 1) throw std::invalid_argument("calibrate: the least-squares budget must be >= 1");
     if (!(options.relative_step > 0.0 && options.relative_step <= 0.5)) {
         throw std::invalid_argument("calibrate: the least-squares step must be in (0, 0.5]");
@@ -125,10 +129,12 @@ LeastSquaresResult fit_least_squares(const std::vector<FitParam>& params,
     std::vector<double> start_values;
     start_values.reserve(params.size());
     for (const FitParam& p : params) start_values.push_back(p.start);
-    const int m = static_cast<int>(residuals(start_values).size());
+    std::vector<double> start_residuals = residuals(values_at(params, z));  // where the minimiser starts
+    const int m = static_cast<int>(start_residuals.size());
     if (m < n) throw std::invalid_argument(fmt::format("calibrate: {} residuals cannot fit {} parameters", m, n));
     Problem problem(n, m, &params, &residuals, &options);
     problem.evaluations = 1;
+    problem.start.emplace(z, std::move(start_residuals));
     Eigen::LevenbergMarquardt<Problem> lm(problem);
     lm.setXtol(options.tolerance);
     lm.setFtol(options.tolerance);
