@@ -46,10 +46,17 @@ FunctionProfiler::FunctionProfiler(AvrCore& core, std::size_t max_depth)
     whole_.functions.assign(map_.size(), FunctionCounts{});
     loop_.functions.assign(map_.size(), FunctionCounts{});
     window_start_.assign(map_.size(), FunctionCounts{});
+    whole_.word_cycles.assign(flash / 2, 0);
+    loop_.word_cycles.assign(flash / 2, 0);
+    window_word_cycles_.assign(flash / 2, 0);
+    window_words_.reserve(flash / 2);  // each word at most once per window: no reallocation
+    site_edge_.assign(flash / 2, 0);
     last_pc_ = core_.pc();
     last_sp_ = core_.stack_pointer();
     last_cycle_ = core_.cycle();
-    stack_[0] = Frame{map_.at(last_pc_), kRootSp, 0, false, false, true, false, 0};
+    const FunctionId root = map_.at(last_pc_);
+    stack_[0] = Frame{root, kRootSp, 0, false, false, true, false, 0,
+                      edge_index(CallEdge::kNoCaller, root, CallEdge::kNoSite)};
     depth_ = 1;
     max_depth_seen_ = 1;
     core_.add_instruction_hook(this, [this] { on_instruction(); });
@@ -73,6 +80,12 @@ void FunctionProfiler::on_instruction() {
 
     // The instruction at last_pc_ ran in the context of the current stack.
     whole_.functions[map_.at(last_pc_)].self_cycles += delta;
+    const uint32_t word = (last_pc_ >> 1) & word_mask_;
+    whole_.word_cycles[word] += delta;
+    if (delta != 0) {
+        if (window_word_cycles_[word] == 0) window_words_.push_back(word);
+        window_word_cycles_[word] += delta;
+    }
     whole_.cycles += delta;
     level_cycles_[level_] += delta;  // inclusive, settled when frames close
     if (level_ != 0) whole_.interrupt_cycles += delta;
@@ -107,18 +120,18 @@ void FunctionProfiler::update_stack(uint32_t prev_pc, uint16_t prev_sp, uint32_t
         pop_to(keep);
     } else if ((flow == kCall2 || flow == kCall4) && next_sp + return_bytes_ == prev_sp &&
                next_pc != prev_pc + (flow == kCall4 ? 4U : 2U)) {
-        push(map_.at(next_pc), next_sp, /*is_interrupt=*/false, /*is_tail=*/false, /*count_call=*/true);
+        push(map_.at(next_pc), next_sp, /*is_interrupt=*/false, /*is_tail=*/false, /*count_call=*/true, prev_pc);
     }
-    follow_transfer(next_pc);
+    follow_transfer(prev_pc, next_pc);
 
     if (interrupt) {
         // Its call is counted for the handler, when the vector jumps to it.
-        push(map_.at(pc), sp, /*is_interrupt=*/true, /*is_tail=*/false, /*count_call=*/false);
+        push(map_.at(pc), sp, /*is_interrupt=*/true, /*is_tail=*/false, /*count_call=*/false, CallEdge::kNoSite);
         stack_[depth_ - 1].awaiting_handler = true;
     }
 }
 
-void FunctionProfiler::follow_transfer(uint32_t pc) {
+void FunctionProfiler::follow_transfer(uint32_t site, uint32_t pc) {
     const FunctionId target = map_.at(pc);
     Frame& top = stack_[depth_ - 1];
     if (top.function == target) return;
@@ -127,7 +140,9 @@ void FunctionProfiler::follow_transfer(uint32_t pc) {
         top.inclusive_start = level_cycles_[top.level];
         top.function = target;
         top.awaiting_handler = false;
+        top.edge = edge_index(CallEdge::kNoCaller, target, CallEdge::kNoSite);
         ++whole_.functions[target].calls;
+        ++whole_.edges[top.edge].calls;
         return;
     }
     // Back into a function of the current tail group?
@@ -142,12 +157,29 @@ void FunctionProfiler::follow_transfer(uint32_t pc) {
     // hand-written code. The tail frame keeps the stack right; no call counted.
     const bool entry = map_.is_entry(pc);
     if (!entry) ++mid_function_branches_;
-    push(target, top.sp_at_entry, /*is_interrupt=*/false, /*is_tail=*/true, /*count_call=*/entry);
+    push(target, top.sp_at_entry, /*is_interrupt=*/false, /*is_tail=*/true, /*count_call=*/entry, site);
+}
+
+uint32_t FunctionProfiler::edge_index(FunctionId caller, FunctionId callee, uint32_t site) {
+    const bool has_site = site != CallEdge::kNoSite;
+    const uint32_t word = (site >> 1) & word_mask_;
+    if (has_site && site_edge_[word] != 0) {  // most sites always call the same function
+        const uint32_t cached = site_edge_[word] - 1;
+        const CallEdge& e = edges_[cached];
+        if (e.site == site && e.caller == caller && e.callee == callee) return cached;
+    }
+    const uint64_t key = (uint64_t{site} << 32) | (uint64_t{caller} << 16) | callee;
+    const auto [it, added] = edge_ids_.try_emplace(key, static_cast<uint32_t>(edges_.size()));
+    if (added) {
+        edges_.push_back(CallEdge{caller, callee, site});
+        whole_.edges.emplace_back();
+    }
+    if (has_site) site_edge_[word] = it->second + 1;
+    return it->second;
 }
 
 void FunctionProfiler::push(FunctionId function, uint16_t sp_at_entry, bool is_interrupt, bool is_tail,
-                            bool count_call) {
-    if (count_call) ++whole_.functions[function].calls;
+                            bool count_call, uint32_t site) {
     bool replaced_base = false;
     if (depth_ == max_depth_) {  // the new frame replaces the top one
         ++overflows_;
@@ -155,8 +187,15 @@ void FunctionProfiler::push(FunctionId function, uint16_t sp_at_entry, bool is_i
         close(stack_[depth_]);
         replaced_base = depth_ == context_base_ && context_base_ != 0;
     }
+    const uint32_t edge = is_interrupt ? edge_index(CallEdge::kNoCaller, function, CallEdge::kNoSite)
+                                       : edge_index(stack_[depth_ - 1].function, function, site);
+    if (count_call) {
+        ++whole_.functions[function].calls;
+        ++whole_.edges[edge].calls;
+    }
     const uint16_t level = static_cast<uint16_t>(stack_[depth_ - 1].level + (is_interrupt ? 1 : 0));
-    stack_[depth_] = Frame{function, sp_at_entry, level, is_interrupt, is_tail, true, false, level_cycles_[level]};
+    stack_[depth_] =
+        Frame{function, sp_at_entry, level, is_interrupt, is_tail, true, false, level_cycles_[level], edge};
     ++depth_;
     level_ = level;
     if (depth_ > max_depth_seen_) max_depth_seen_ = depth_;
@@ -176,7 +215,9 @@ void FunctionProfiler::pop_to(std::size_t depth) {
 
 void FunctionProfiler::close(const Frame& f) {
     if (f.counts_inclusive) {
-        whole_.functions[f.function].inclusive_cycles += level_cycles_[f.level] - f.inclusive_start;
+        const Cycles cycles = level_cycles_[f.level] - f.inclusive_start;
+        whole_.functions[f.function].inclusive_cycles += cycles;
+        whole_.edges[f.edge].inclusive_cycles += cycles;
     }
 }
 
@@ -214,7 +255,10 @@ ProfileScope FunctionProfiler::whole_run() const {
     ProfileScope s = whole_;
     for (std::size_t i = 0; i < depth_; ++i) {
         const Frame& f = stack_[i];
-        if (f.counts_inclusive) s.functions[f.function].inclusive_cycles += level_cycles_[f.level] - f.inclusive_start;
+        if (!f.counts_inclusive) continue;
+        const Cycles cycles = level_cycles_[f.level] - f.inclusive_start;
+        s.functions[f.function].inclusive_cycles += cycles;
+        s.edges[f.edge].inclusive_cycles += cycles;
     }
     return s;
 }
@@ -231,11 +275,21 @@ void FunctionProfiler::on_loop_boundary(bool completed) {
             acc.self_cycles += now.self_cycles - start.self_cycles;
             acc.inclusive_cycles += now.inclusive_cycles - start.inclusive_cycles;
         }
+        loop_.edges.resize(whole_.edges.size());
+        for (std::size_t e = 0; e < whole_.edges.size(); ++e) {
+            const EdgeCounts start = e < window_start_edges_.size() ? window_start_edges_[e] : EdgeCounts{};
+            loop_.edges[e].calls += whole_.edges[e].calls - start.calls;
+            loop_.edges[e].inclusive_cycles += whole_.edges[e].inclusive_cycles - start.inclusive_cycles;
+        }
+        for (const uint32_t word : window_words_) loop_.word_cycles[word] += window_word_cycles_[word];
         loop_.cycles += whole_.cycles - window_start_cycles_;
         loop_.interrupt_cycles += whole_.interrupt_cycles - window_start_interrupt_cycles_;
         ++loop_.iterations;
     }
+    for (const uint32_t word : window_words_) window_word_cycles_[word] = 0;
+    window_words_.clear();
     window_start_ = whole_.functions;  // same size: no allocation
+    window_start_edges_ = whole_.edges;  // reallocates only when edges were added
     window_start_cycles_ = whole_.cycles;
     window_start_interrupt_cycles_ = whole_.interrupt_cycles;
     window_open_ = true;

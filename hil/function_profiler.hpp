@@ -46,15 +46,29 @@
 //             interrupts, plus the vector JMPs.
 //   calls     frames pushed for the function: calls, tail transfers into
 //             its entry point, interrupt handler entries.
+//   edges     the call graph: a frame is pushed by an edge {caller, callee,
+//             site}: the function of the frame below, the frame's function,
+//             and the flash byte address of the CALL/RCALL/ICALL, jump or
+//             last instruction before a fall-through that pushed it. The
+//             root frame and interrupt frames have no caller (kNoCaller,
+//             kNoSite: gprof's <spontaneous>). An edge counts the calls the
+//             frame counted and, when the frame closes, the inclusive cycles
+//             it added to its function: so for every function the sums over
+//             its incoming edges are its calls and its inclusive cycles. The
+//             edge of a frame is looked up when it is pushed (a per-site
+//             cache, else a hash map), never per instruction.
+//   words     self cycles per flash word (the instruction's address / 2),
+//             so source lines can be looked up when the profile is written.
 // Inclusive cycles cost O(1) per instruction: each interrupt nesting level
 // counts the cycles executed at it, and a frame adds its level's growth to
 // its function when it closes (open frames are settled at loop boundaries
 // and when read).
 // The stack holds at most `max_depth` frames (reserved up front; no
-// allocation per instruction). A push beyond it replaces the top frame and
-// counts a stack overflow; the counts stay exact for self cycles but not for
-// inclusive cycles and calls after that (0 overflows on the reference
-// firmware: its shadow stack is at most 15 frames deep in case 1).
+// allocation per instruction, only when a call edge is first seen). A push
+// beyond it replaces the top frame and counts a stack overflow; the counts
+// stay exact for self cycles but not for inclusive cycles and calls after
+// that (0 overflows on the reference firmware: its shadow stack is at most 15
+// frames deep in case 1).
 //
 // Scopes:
 //   whole run     every instruction from construction (install before the
@@ -71,6 +85,7 @@
 // (the condition overload does not call hooks).
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "hil/avr_core.hpp"
@@ -84,11 +99,30 @@ struct FunctionCounts {
     Cycles inclusive_cycles = 0; ///< self + callees, interrupts excluded
 };
 
+/// One edge of the call graph, from one call site (see the header comment).
+struct CallEdge {
+    static constexpr FunctionId kNoCaller = 0xFFFF;     ///< the root frame, interrupt entries
+    static constexpr uint32_t kNoSite = 0xFFFFFFFF;     ///< no calling instruction
+    FunctionId caller = kNoCaller;  ///< function of the frame below, or kNoCaller
+    FunctionId callee = 0;          ///< function of the pushed frame
+    uint32_t site = kNoSite;        ///< flash byte address of the instruction that pushed it
+};
+
+struct EdgeCounts {
+    uint64_t calls = 0;           ///< frames pushed by the edge that counted a call
+    Cycles inclusive_cycles = 0;  ///< what those frames added to the callee's inclusive
+};
+
 struct ProfileScope {
     Cycles cycles = 0;            ///< cycles observed in the scope
     Cycles interrupt_cycles = 0;  ///< of which inside interrupt frames (vector JMP included)
     uint64_t iterations = 0;      ///< control loop: completed iterations; whole run: 0
     std::vector<FunctionCounts> functions;  ///< indexed by FunctionId
+    /// Indexed like FunctionProfiler::edges(); edges first seen after the
+    /// scope's last update are absent (zero).
+    std::vector<EdgeCounts> edges;
+    /// Self cycles of the instruction at each flash word (byte address / 2).
+    std::vector<Cycles> word_cycles;
 };
 
 class FunctionProfiler {
@@ -110,6 +144,9 @@ public:
     ProfileScope whole_run() const;
     const ProfileScope& control_loop() const { return loop_; }
 
+    /// Every call edge seen so far, in order of first use (ProfileScope::edges' index).
+    const std::vector<CallEdge>& edges() const { return edges_; }
+
     /// Functions on the shadow stack now, bottom first.
     std::vector<FunctionId> call_stack() const;
     std::size_t max_depth_seen() const { return max_depth_seen_; }
@@ -127,11 +164,15 @@ private:
         bool counts_inclusive;   ///< first frame of its function in its context
         bool awaiting_handler;   ///< interrupt frame still in the vector table
         Cycles inclusive_start;  ///< level_cycles_[level] when it was pushed (or settled)
+        uint32_t edge;           ///< index in edges_ of the edge that pushed it
     };
 
     void on_instruction();
     void update_stack(uint32_t prev_pc, uint16_t prev_sp, uint32_t pc, uint16_t sp);
-    void push(FunctionId function, uint16_t sp_at_entry, bool is_interrupt, bool is_tail, bool count_call);
+    void push(FunctionId function, uint16_t sp_at_entry, bool is_interrupt, bool is_tail, bool count_call,
+              uint32_t site);
+    /// The index of edge {caller, callee, site}, added if new.
+    uint32_t edge_index(FunctionId caller, FunctionId callee, uint32_t site);
     void pop_to(std::size_t depth);
     /// Adds a frame's cycles since its push to its function's inclusive.
     void close(const Frame& frame);
@@ -139,7 +180,8 @@ private:
     void settle_open_frames();
     void find_context_base();
     void set_inclusive_flag(std::size_t index);
-    void follow_transfer(uint32_t pc);
+    /// The stack after `site`'s instruction transferred control to `pc`.
+    void follow_transfer(uint32_t site, uint32_t pc);
 
     AvrCore& core_;
     avr_t* avr_;
@@ -166,6 +208,16 @@ private:
     std::vector<Cycles> level_cycles_;
     std::vector<uint8_t> flow_;    ///< per flash word: other, return, call (decoded once)
 
+    std::vector<CallEdge> edges_;
+    std::unordered_map<uint64_t, uint32_t> edge_ids_;  ///< key: site << 32 | caller << 16 | callee
+    std::vector<uint32_t> site_edge_;  ///< per flash word: the last edge pushed from it + 1 (0: none)
+
+    /// Self cycles per flash word since the last loop boundary, and the
+    /// words they touched: folded into loop_ at a completed boundary,
+    /// dropped otherwise (O(words run) per boundary, not O(flash)).
+    std::vector<Cycles> window_word_cycles_;
+    std::vector<uint32_t> window_words_;
+
     uint32_t last_pc_ = 0;
     uint16_t last_sp_ = 0;
     Cycles last_cycle_ = 0;
@@ -173,6 +225,7 @@ private:
     ProfileScope whole_;
     ProfileScope loop_;
     std::vector<FunctionCounts> window_start_;  ///< whole_.functions at the open boundary
+    std::vector<EdgeCounts> window_start_edges_;  ///< whole_.edges at the open boundary
     Cycles window_start_cycles_ = 0;
     Cycles window_start_interrupt_cycles_ = 0;
     bool window_open_ = false;

@@ -14,8 +14,10 @@
 #include "common/atomic_file.hpp"
 #include "common/sha256.hpp"
 #include "common/truth_csv.hpp"
+#include "callgrind_output.hpp"
 #include "exit_codes.hpp"
 #include "function_profile_output.hpp"
+#include "profile_lines.hpp"
 #include "race_report.hpp"
 #include "hil/board.hpp"
 #include "hil/eeprom_log.hpp"
@@ -894,10 +896,19 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
     json function_profile = nullptr;
     std::string function_profile_txt;
+    std::string callgrind_txt;
     if (function_profiler) {
-        const FunctionProfileContext context{core.clock_hz(), loop_mark_name};
+        FunctionProfileContext context{core.clock_hz(), loop_mark_name, {}, {}};
+        try {
+            context.lines = profile_lines(elf.path(), *function_profiler);
+        } catch (const std::exception& e) {
+            context.lines_error = e.what();
+            std::fprintf(stderr, "ddmr-hil: warning: no source lines in the profile: %s\n", e.what());
+        }
         function_profile = function_profile_json(*function_profiler, context);
+        function_profile["callgrind"] = {{"file", "callgrind.out"}, {"scope", callgrind_scope(*function_profiler)}};
         function_profile_txt = function_profile_text(*function_profiler, context);
+        callgrind_txt = callgrind_profile(*function_profiler, context, elf.path().string());
         result.function_profile_top = ddmr::tools::function_profile_top(*function_profiler, context, options.profile_top);
     }
     const hil::IsrSummary isr_summary = isr_monitor.summary();
@@ -1032,6 +1043,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (function_profiler) {
         write_file_atomic(options.out_dir / "profile.json", function_profile.dump(2) + "\n");
         write_file_atomic(options.out_dir / "profile.txt", function_profile_txt);
+        write_file_atomic(options.out_dir / "callgrind.out", callgrind_txt);
     }
     write_file_atomic(options.out_dir / "isr.json", isr.dump(2) + "\n");
     write_file_atomic(options.out_dir / "isr.md", hil::to_markdown(isr_summary) + race.markdown);

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace ddmr::tools {
@@ -14,6 +16,8 @@ namespace {
 using nlohmann::json;
 
 using hil::demangle;
+
+constexpr const char* kSpontaneous = "<spontaneous>";
 
 struct ScopeView {
     const char* key;
@@ -57,9 +61,13 @@ double to_us(hil::Cycles cycles, uint32_t clock_hz) {
     return hil::cycles_to_s(cycles, clock_hz) * 1e6;
 }
 
-std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const FunctionProfileContext& c,
-                  std::size_t limit) {
-    constexpr std::size_t kNameWidth = 44;
+/// The raw symbol name, or <spontaneous>.
+std::string edge_end_name(const hil::FunctionProfiler& p, hil::FunctionId id) {
+    return id == hil::CallEdge::kNoCaller ? std::string(kSpontaneous) : p.map().function(id).name;
+}
+
+/// The heading line of a scope's table: its cycles, interrupts, iterations.
+std::string scope_heading(const ScopeView& v, const FunctionProfileContext& c) {
     const hil::ProfileScope& s = v.scope;
     std::string out = fmt::format("{}: {} cycles ({:.3f} s), {:.1f} % in interrupts", v.title, s.cycles,
                                   hil::cycles_to_s(s.cycles, c.clock_hz), 100.0 * share(s.interrupt_cycles, s.cycles));
@@ -70,7 +78,137 @@ std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const Func
                                to_us(s.cycles, c.clock_hz) / static_cast<double>(s.iterations));
         }
     }
-    out += fmt::format("\n  ({})\n", v.description);
+    return out;
+}
+
+/// gprof's call graph: functions by inclusive cycles, each with its callers
+/// (above) and callees (below); an edge row gives the edge's inclusive cycles
+/// and its calls out of all the calls of the callee.
+std::string call_graph_text(const hil::FunctionProfiler& p, const ScopeView& v, const FunctionProfileContext& c) {
+    const hil::ProfileScope& s = v.scope;
+    const auto edges = function_edges(p, s);
+    std::vector<hil::FunctionId> ids = ranked(p, s);
+    std::stable_sort(ids.begin(), ids.end(), [&](hil::FunctionId a, hil::FunctionId b) {
+        const auto ia = s.functions[a].inclusive_cycles;
+        const auto ib = s.functions[b].inclusive_cycles;
+        if (ia != ib) return ia > ib;
+        return p.map().function(a).address < p.map().function(b).address;
+    });
+    std::map<hil::FunctionId, std::size_t> index;
+    for (std::size_t i = 0; i < ids.size(); ++i) index[ids[i]] = i + 1;
+    const auto label = [&](hil::FunctionId id) {
+        if (id == hil::CallEdge::kNoCaller) return std::string(kSpontaneous);
+        return fmt::format("{} [{}]", demangle(p.map().function(id).name), index[id]);
+    };
+    std::string out = fmt::format("Call graph. {}\n", scope_heading(v, c));
+    out += fmt::format("{:<7} {:>7} {:>12} {:>12} {:>19}  {}\n", "index", "incl%", "self_cyc", "incl_cyc", "calls",
+                       "name");
+    for (const hil::FunctionId id : ids) {
+        const auto& f = s.functions[id];
+        for (const FunctionEdge& e : edges) {
+            if (e.callee != id) continue;
+            out += fmt::format("{:<7} {:>7} {:>12} {:>12} {:>19}      {}\n", "", "", "", e.inclusive_cycles,
+                               fmt::format("{}/{}", e.calls, f.calls), label(e.caller));
+        }
+        out += fmt::format("{:<7} {:>6.2f}% {:>12} {:>12} {:>19}  {}\n", fmt::format("[{}]", index[id]),
+                           100.0 * share(f.inclusive_cycles, s.cycles), f.self_cycles, f.inclusive_cycles, f.calls,
+                           label(id));
+        for (const FunctionEdge& e : edges) {
+            if (e.caller != id) continue;
+            out += fmt::format("{:<7} {:>7} {:>12} {:>12} {:>19}      {}\n", "", "", "", e.inclusive_cycles,
+                               fmt::format("{}/{}", e.calls, s.functions[e.callee].calls), label(e.callee));
+        }
+        out += "\n";
+    }
+    return out;
+}
+
+/// A scope's top `limit` source lines and instructions without a line, merged
+/// by self cycles (lines first on ties).
+std::string lines_text(const hil::FunctionProfiler& p, const ScopeView& v, const FunctionProfileContext& c,
+                       std::size_t limit) {
+    const hil::ProfileScope& s = v.scope;
+    const ScopeLines sl = scope_lines(s, p.map(), c.lines);
+    std::string out = fmt::format("{}\n  {} source lines, {} instructions without line info: {} cycles ({:.2f} %)\n",
+                                  scope_heading(v, c), sl.lines.size(), sl.unlined.size(), sl.unlined_cycles,
+                                  100.0 * share(sl.unlined_cycles, s.cycles));
+    if (!c.lines_error.empty()) out += fmt::format("  (no source lines: {})\n", c.lines_error);
+    out += fmt::format("{:>4}  {:>12} {:>7}  {}\n", "#", "self_cyc", "self%", "line (function)");
+    std::size_t li = 0;
+    std::size_t ui = 0;
+    for (std::size_t rank = 1; rank <= limit && (li < sl.lines.size() || ui < sl.unlined.size()); ++rank) {
+        const bool line = ui == sl.unlined.size() ||
+                          (li < sl.lines.size() && sl.lines[li].self_cycles >= sl.unlined[ui].self_cycles);
+        hil::Cycles cycles = 0;
+        std::string where;
+        if (line) {
+            const LineCycles& l = sl.lines[li++];
+            cycles = l.self_cycles;
+            std::string functions;
+            for (const hil::FunctionId id : l.functions) {
+                functions += (functions.empty() ? "" : ", ") + demangle(p.map().function(id).name);
+            }
+            where = fmt::format("{}:{} ({})", l.where.file, l.where.line, functions);
+        } else {
+            const UnlinedCycles& u = sl.unlined[ui++];
+            cycles = u.self_cycles;
+            where = unlined_label(p.map(), u.address);
+        }
+        out += fmt::format("{:>4}  {:>12} {:>6.2f}%  {}\n", rank, cycles, 100.0 * share(cycles, s.cycles), where);
+    }
+    return out;
+}
+
+json call_graph_json(const hil::FunctionProfiler& p, const hil::ProfileScope& s) {
+    json rows = json::array();
+    for (const FunctionEdge& e : function_edges(p, s)) {
+        json row = {{"caller", edge_end_name(p, e.caller)},
+                    {"caller_address", nullptr},
+                    {"callee", edge_end_name(p, e.callee)},
+                    {"callee_address", p.map().function(e.callee).address},
+                    {"calls", e.calls},
+                    {"inclusive_cycles", e.inclusive_cycles},
+                    {"inclusive_share", share(e.inclusive_cycles, s.cycles)}};
+        if (e.caller != hil::CallEdge::kNoCaller) row["caller_address"] = p.map().function(e.caller).address;
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+json source_lines_json(const hil::FunctionProfiler& p, const hil::ProfileScope& s, const AddressLines& lines) {
+    const ScopeLines sl = scope_lines(s, p.map(), lines);
+    json line_rows = json::array();
+    for (const LineCycles& l : sl.lines) {
+        json functions = json::array();
+        for (const hil::FunctionId id : l.functions) functions.push_back(p.map().function(id).name);
+        line_rows.push_back({{"file", l.where.file},
+                             {"line", l.where.line},
+                             {"self_cycles", l.self_cycles},
+                             {"self_share", share(l.self_cycles, s.cycles)},
+                             {"functions", std::move(functions)}});
+    }
+    json unlined_rows = json::array();
+    for (const UnlinedCycles& u : sl.unlined) {
+        const auto& f = p.map().function(u.function);
+        unlined_rows.push_back({{"address", u.address},
+                                {"function", f.name},
+                                {"offset", u.address - f.address},
+                                {"label", unlined_label(p.map(), u.address)},
+                                {"self_cycles", u.self_cycles},
+                                {"self_share", share(u.self_cycles, s.cycles)}});
+    }
+    return {{"line_cycles", sl.line_cycles},
+            {"no_line_info_cycles", sl.unlined_cycles},
+            {"no_line_info_share", share(sl.unlined_cycles, s.cycles)},
+            {"lines", std::move(line_rows)},
+            {"no_line_info", std::move(unlined_rows)}};
+}
+
+std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const FunctionProfileContext& c,
+                  std::size_t limit) {
+    constexpr std::size_t kNameWidth = 44;
+    const hil::ProfileScope& s = v.scope;
+    std::string out = scope_heading(v, c) + fmt::format("\n  ({})\n", v.description);
     out += fmt::format("{:>4}  {:<{}} {:>8} {:>8} {:>12} {:>7} {:>12} {:>7} {:>12}\n", "#", "function", kNameWidth,
                        "address", "calls", "self_cyc", "self%", "incl_cyc", "incl%", "self_us");
     const auto ids = ranked(p, s);
@@ -92,10 +230,36 @@ std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const Func
 
 }  // namespace
 
+std::vector<FunctionEdge> function_edges(const hil::FunctionProfiler& p, const hil::ProfileScope& scope) {
+    // Keyed by (caller address order, callee address order): <spontaneous> first.
+    std::map<std::pair<int, int>, FunctionEdge> by_pair;
+    for (std::size_t i = 0; i < scope.edges.size(); ++i) {
+        const hil::EdgeCounts& counts = scope.edges[i];
+        if (counts.calls == 0 && counts.inclusive_cycles == 0) continue;
+        const hil::CallEdge& e = p.edges()[i];
+        const int caller_key = e.caller == hil::CallEdge::kNoCaller ? -1 : e.caller;
+        FunctionEdge& f = by_pair[{caller_key, e.callee}];
+        f.caller = e.caller;
+        f.callee = e.callee;
+        f.calls += counts.calls;
+        f.inclusive_cycles += counts.inclusive_cycles;
+    }
+    std::vector<FunctionEdge> out;
+    out.reserve(by_pair.size());
+    for (const auto& [key, e] : by_pair) out.push_back(e);
+    std::stable_sort(out.begin(), out.end(), [](const FunctionEdge& a, const FunctionEdge& b) {
+        return a.inclusive_cycles > b.inclusive_cycles;
+    });
+    return out;
+}
+
 json function_profile_json(const hil::FunctionProfiler& p, const FunctionProfileContext& c) {
     json out;
     out["clock_hz"] = c.clock_hz;
     out["sorted_by"] = "self_cycles descending, then address";
+    out["line_info"] = {{"source", "avr-addr2line (DWARF or stabs), checked against the symbol table"},
+                        {"addresses_with_line", c.lines.size()},
+                        {"error", c.lines_error.empty() ? json(nullptr) : json(c.lines_error)}};
     out["stack"] = {{"max_depth", hil::FunctionProfiler::kDefaultMaxDepth},
                     {"max_depth_seen", p.max_depth_seen()},
                     {"overflows", p.stack_overflows()},
@@ -121,7 +285,9 @@ json function_profile_json(const hil::FunctionProfiler& p, const FunctionProfile
         json scope = {{"description", v.description},
                       {"cycles", s.cycles},
                       {"interrupt_cycles", s.interrupt_cycles},
-                      {"functions", std::move(functions)}};
+                      {"functions", std::move(functions)},
+                      {"call_graph", call_graph_json(p, s)},
+                      {"source_lines", source_lines_json(p, s, c.lines)}};
         if (v.control_loop) {
             scope["iterations"] = s.iterations;
             scope["loop_mark"] = c.loop_mark;
@@ -132,20 +298,37 @@ json function_profile_json(const hil::FunctionProfiler& p, const FunctionProfile
 }
 
 std::string function_profile_text(const hil::FunctionProfiler& p, const FunctionProfileContext& c) {
+    constexpr std::size_t kAll = std::numeric_limits<std::size_t>::max();
+    constexpr std::size_t kTopLines = 50;
+    const auto views = scopes(p, c);
     std::string out =
         "Flat profile: cycles per function from every executed instruction (ddmr-hil --profile).\n"
         "self = the function's own instructions; incl = with its callees, interrupts excluded;\n"
         "calls = calls, tail jumps and interrupt entries. Sorted by self cycles.\n\n";
-    for (const ScopeView& v : scopes(p, c)) out += table(p, v, c, std::numeric_limits<std::size_t>::max()) + "\n";
+    for (const ScopeView& v : views) out += table(p, v, c, kAll) + "\n";
+    out += fmt::format(
+        "Source lines: self cycles per source line (avr-addr2line), and per instruction where the\n"
+        "ELF has no line (\"(no line info) function+offset\"), merged by self cycles; the top {}\n"
+        "(all in profile.json).\n\n",
+        kTopLines);
+    for (const ScopeView& v : views) out += lines_text(p, v, c, kTopLines) + "\n";
+    out +=
+        "Call graph (gprof style): functions by inclusive cycles; above each, its callers, below it,\n"
+        "its callees, with the inclusive cycles of those calls and their count out of the callee's\n"
+        "calls. <spontaneous>: the reset and interrupt entries (no caller).\n\n";
+    for (const ScopeView& v : views) out += call_graph_text(p, v, c);
     return out;
 }
 
 std::string function_profile_top(const hil::FunctionProfiler& p, const FunctionProfileContext& c,
                                  std::size_t top_n) {
     std::string out;
-    for (const ScopeView& v : scopes(p, c)) {
+    const auto views = scopes(p, c);
+    for (const ScopeView& v : views) {
         out += fmt::format("Top {} by self cycles. ", top_n) + table(p, v, c, top_n);
     }
+    const ScopeView& lines = p.control_loop().iterations > 0 ? views[1] : views[0];
+    out += fmt::format("Top {} source lines by self cycles. ", top_n) + lines_text(p, lines, c, top_n);
     return out;
 }
 

@@ -93,6 +93,14 @@ void resolve_firmware(const RunCli& cli, FirmwareRunOptions& o) {
     o.unity = cli.unity;
 }
 
+/// With --profile: the top-N tables, and where the rest is.
+void print_function_profile(const FirmwareRunResult& r, FILE* out) {
+    if (r.function_profile_top.empty()) return;
+    std::fprintf(out, "%sall functions, source lines and the call graph in profile.txt and profile.json; "
+                "callgrind.out for KCachegrind\n",
+                r.function_profile_top.c_str());
+}
+
 /// The options `run` and `profile` share, and their action.
 Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
     cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
@@ -192,8 +200,9 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
     if (!profile_always) {
         sub->add_flag("--profile", cli->options.profile,
-                      "Exact control-loop cycle counts (loop_profile.csv) and a flat per-function profile "
-                      "(profile.json, profile.txt; single-steps: several times slower)");
+                      "Exact control-loop cycle counts (loop_profile.csv) and a profile: per function, call "
+                      "graph and per source line (profile.json, profile.txt), the control loop as "
+                      "callgrind.out (KCachegrind); single-steps: several times slower");
     }
     sub->add_option("--trace", cli->options.trace,
                     "Firmware globals to sample into trace.csv, by symbol: NAME or NAME:TYPE (int8 ... uint32, "
@@ -220,8 +229,8 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         "part); default delay for the reference sketch, loop() for any other firmware")
             ->capture_default_str();
     sub->add_option("--top", cli->options.profile_top,
-                    "With --profile: print the N functions with the most self cycles (profile.json and "
-                    "profile.txt list all)")
+                    "With --profile: print the N functions and source lines with the most self cycles "
+                    "(profile.json and profile.txt list all)")
         ->check(CLI::Range(std::size_t{1}, std::size_t{100'000}))
         ->capture_default_str();
 
@@ -273,9 +282,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         static_cast<unsigned long long>(r.encoder[0].lost_edges),
                         static_cast<unsigned long long>(r.encoder[1].lost_edges),
                         static_cast<unsigned long long>(r.uart_bytes), o.serial_port.c_str(), uart_txt.c_str());
-            if (!r.function_profile_top.empty()) {
-                std::fprintf(out, "%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
-            }
+            print_function_profile(r, out);
             return kExitOk;
         }
         if (r.exit != RunExit::kReportComplete) {
@@ -342,9 +349,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                             static_cast<unsigned long long>(r.eeprom_writes), r.eeprom_writes_recorded);
             }
         }
-        if (!r.function_profile_top.empty()) {
-            std::fprintf(out, "%sall functions in profile.txt and profile.json\n", r.function_profile_top.c_str());
-        }
+        print_function_profile(r, out);
         return kExitOk;
     }};
 }

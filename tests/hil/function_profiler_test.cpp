@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
 
 #include "hil/isr_monitor.hpp"
@@ -29,6 +30,70 @@ const FunctionCounts& counts(const FunctionProfiler& p, const hil::ProfileScope&
 Cycles self_sum(const hil::ProfileScope& scope) {
     return std::accumulate(scope.functions.begin(), scope.functions.end(), Cycles{0},
                            [](Cycles a, const FunctionCounts& f) { return a + f.self_cycles; });
+}
+
+/// A caller -> callee edge of `scope`, its call sites summed; caller nullptr
+/// is <spontaneous> (no caller).
+struct EdgeSum {
+    uint64_t calls = 0;
+    Cycles inclusive_cycles = 0;
+    std::size_t sites = 0;  ///< call sites with calls or cycles in the scope
+};
+
+EdgeSum edge(const FunctionProfiler& p, const hil::ProfileScope& scope, const char* caller, const char* callee) {
+    const hil::FunctionId from = caller == nullptr ? hil::CallEdge::kNoCaller : *p.map().find(caller);
+    const hil::FunctionId to = *p.map().find(callee);
+    EdgeSum sum;
+    for (std::size_t i = 0; i < scope.edges.size(); ++i) {
+        const hil::CallEdge& e = p.edges()[i];
+        const hil::EdgeCounts& c = scope.edges[i];
+        if (e.caller != from || e.callee != to || (c.calls == 0 && c.inclusive_cycles == 0)) continue;
+        sum.calls += c.calls;
+        sum.inclusive_cycles += c.inclusive_cycles;
+        ++sum.sites;
+    }
+    return sum;
+}
+
+std::size_t active_edges(const hil::ProfileScope& scope) {
+    return static_cast<std::size_t>(std::count_if(scope.edges.begin(), scope.edges.end(), [](const hil::EdgeCounts& c) {
+        return c.calls != 0 || c.inclusive_cycles != 0;
+    }));
+}
+
+/// The call graph's and the per-word counts' identities, for any scope: the
+/// edges into a function sum to its calls and inclusive cycles; the edges out
+/// of it to at most its inclusive cycles (they are its callees' share of it);
+/// a call site is in its caller; a function's words sum to its self cycles.
+void expect_consistent(const FunctionProfiler& p, const hil::ProfileScope& scope) {
+    const std::size_t n = p.map().size();
+    std::vector<uint64_t> calls_in(n, 0);
+    std::vector<Cycles> inclusive_in(n, 0);
+    std::vector<Cycles> inclusive_out(n, 0);
+    ASSERT_LE(scope.edges.size(), p.edges().size());
+    for (std::size_t i = 0; i < scope.edges.size(); ++i) {
+        const hil::CallEdge& e = p.edges()[i];
+        calls_in[e.callee] += scope.edges[i].calls;
+        inclusive_in[e.callee] += scope.edges[i].inclusive_cycles;
+        if (e.caller == hil::CallEdge::kNoCaller) {
+            EXPECT_EQ(e.site, hil::CallEdge::kNoSite);
+            continue;
+        }
+        inclusive_out[e.caller] += scope.edges[i].inclusive_cycles;
+        EXPECT_EQ(p.map().at(e.site), e.caller) << p.map().function(e.caller).name << " site 0x" << std::hex << e.site;
+    }
+    for (std::size_t id = 0; id < n; ++id) {
+        const auto& info = p.map().function(static_cast<hil::FunctionId>(id));
+        const FunctionCounts& f = scope.functions[id];
+        EXPECT_EQ(calls_in[id], f.calls) << info.name;
+        EXPECT_EQ(inclusive_in[id], f.inclusive_cycles) << info.name;
+        EXPECT_LE(inclusive_out[id], f.inclusive_cycles) << info.name;
+        if (static_cast<hil::FunctionId>(id) == p.map().outside()) continue;
+        Cycles words = 0;
+        for (uint32_t a = info.address; a < info.end; a += 2) words += scope.word_cycles[a / 2];
+        EXPECT_EQ(words, f.self_cycles) << info.name;
+    }
+    EXPECT_EQ(std::accumulate(scope.word_cycles.begin(), scope.word_cycles.end(), Cycles{0}), scope.cycles);
 }
 
 // tests/firmware/profile_fixture.c (avr-objdump -d; cycles from the
@@ -113,6 +178,35 @@ TEST_P(FunctionProfilerFixture, HasHandCountedCyclesAndCalls) {
     // The root frame: all non-interrupt cycles plus the vector JMPs.
     check("__vectors", 0, 3 * e, period * n + 3 * e);
 
+    // The call graph of the control loop, edge by edge: a CALL or JMP site
+    // each, or <spontaneous> (nullptr). The frames open since before the loop
+    // (__vectors, __init, main) make no call in it but carry its cycles.
+    const auto check_edge = [&](const char* caller, const char* callee, uint64_t calls, Cycles inclusive) {
+        const EdgeSum sum = edge(prof, cl, caller, callee);
+        const std::string name = std::string(caller == nullptr ? "<spontaneous>" : caller) + " -> " + callee;
+        EXPECT_EQ(sum.calls, calls) << name;
+        EXPECT_EQ(sum.inclusive_cycles, inclusive) << name;
+        EXPECT_EQ(sum.sites, 1u) << name;
+    };
+    check_edge("main", "middle", n, (c.middle + c.leaf) * n);
+    check_edge("middle", "leaf", n, c.leaf * n);
+    check_edge("main", "tailer", n, (c.tailer + c.leaf) * n);
+    check_edge("tailer", "leaf", n, c.leaf * n);  // the JMP: a tail frame above tailer's
+    check_edge("main", "mark", n, c.mark * n);
+    check_edge(nullptr, "__vector_1", e, (c.vector + c.leaf) * e);
+    check_edge("__vector_1", "leaf", e, c.leaf * e);
+    check_edge(nullptr, "__vectors", 0, period * n + 3 * e);  // the root frame, and each interrupt's vector JMP
+    check_edge("__vectors", "__init", 0, period * n);
+    check_edge("__init", "main", 0, period * n);
+    EXPECT_EQ(active_edges(cl), 10u);
+    expect_consistent(prof, cl);
+    // Per instruction: leaf's first NOP ran once per call, its RET (the rest
+    // of its cycles after the four NOPs) too.
+    const auto& leaf_info = prof.map().function(*prof.map().find("leaf"));
+    const uint64_t leaf_calls = 2 * n + e;
+    EXPECT_EQ(cl.word_cycles[leaf_info.address / 2], leaf_calls);
+    EXPECT_EQ(cl.word_cycles[leaf_info.address / 2 + 4], (c.leaf - 4) * leaf_calls);
+
     // Whole run: start-up code exactly; every cycle in exactly one function.
     const auto& all = prof.whole_run();
     EXPECT_EQ(all.cycles, core.cycle());
@@ -126,6 +220,9 @@ TEST_P(FunctionProfilerFixture, HasHandCountedCyclesAndCalls) {
     EXPECT_EQ(counts(prof, all, "__vectors").self_cycles, 3 + 3 * e_all);
     EXPECT_EQ(counts(prof, all, "__vectors").inclusive_cycles, all.cycles - all.interrupt_cycles + 3 * e_all);
     EXPECT_EQ(counts(prof, all, "__bad_interrupt").calls, 0u);
+    expect_consistent(prof, all);
+    EXPECT_EQ(edge(prof, all, "__init", "main").calls, 1u);
+    EXPECT_EQ(edge(prof, all, nullptr, "__vector_1").calls, e_all);
     // The stack: __vectors, __init (tail), main, middle, leaf, __vector_1, leaf at most.
     EXPECT_LE(prof.max_depth_seen(), 7u);
     EXPECT_EQ(prof.stack_overflows(), 0u);
@@ -154,6 +251,8 @@ TEST(FunctionProfiler, BoundedStackOverflowsButKeepsSelfCyclesExact) {
     EXPECT_GT(prof.stack_overflows(), 100u);
     EXPECT_EQ(prof.call_stack().size(), 3u);
     EXPECT_EQ(self_sum(prof.whole_run()), core.cycle());
+    const auto all = prof.whole_run();
+    EXPECT_EQ(std::accumulate(all.word_cycles.begin(), all.word_cycles.end(), Cycles{0}), core.cycle());
     EXPECT_THROW(FunctionProfiler(core, 1), std::invalid_argument);
 }
 
@@ -212,6 +311,13 @@ TEST(FunctionProfiler, ReferenceFirmwareCase1) {
         EXPECT_LE(c.calls, w.calls) << name;
     }
     EXPECT_LT(counts(prof, cl, "delay").calls, counts(prof, all, "delay").calls);  // setup()'s delays
+    // The call graph: LTO inlined loop() into main, which calls delay() once
+    // per iteration, and delay() polls micros().
+    expect_consistent(prof, all);
+    expect_consistent(prof, cl);
+    EXPECT_EQ(edge(prof, cl, "main", "delay").calls, cl.iterations);
+    EXPECT_EQ(edge(prof, cl, "delay", "micros").calls, counts(prof, cl, "micros").calls);
+    EXPECT_EQ(edge(prof, cl, "delay", "micros").inclusive_cycles, counts(prof, cl, "micros").inclusive_cycles);
     // Nothing executed outside .text; a shallow stack, never overflowed.
     EXPECT_EQ(all.functions[prof.map().outside()].self_cycles, 0u);
     EXPECT_LT(prof.max_depth_seen(), 16u);

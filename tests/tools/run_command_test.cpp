@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/callgrind_annotate.hpp"
 #include "support/process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
@@ -311,10 +312,39 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     EXPECT_EQ(p["scopes"]["whole_run"]["cycles"], s["cycles_total"]);
     EXPECT_EQ(p["stack"]["overflows"], 0);
     const std::string text = read_text(out / "profile.txt");
+    // The call graph: loop() is inlined into main (LTO), which calls delay()
+    // once per iteration; every micros() call in the loop is delay()'s.
+    const json& cl = p["scopes"]["control_loop"];
+    const auto edge = [&](const std::string& caller, const std::string& callee) {
+        for (const json& e : cl["call_graph"]) {
+            if (e["caller"] == caller && e["callee"] == callee) return e;
+        }
+        return json();
+    };
+    EXPECT_EQ(edge("main", "delay")["calls"], 799);
+    const auto micros = std::find_if(cl["functions"].begin(), cl["functions"].end(),
+                                     [](const json& fn) { return fn["name"] == "micros"; });
+    ASSERT_NE(micros, cl["functions"].end());
+    EXPECT_EQ(edge("delay", "micros")["calls"], (*micros)["calls"]);
+    // Source lines from the stabs: the sketch's lines are there; libgcc's and
+    // libm's float code has none and is said so; lines and the rest add up.
+    const json& sl = cl["source_lines"];
+    EXPECT_EQ(sl["line_cycles"].get<uint64_t>() + sl["no_line_info_cycles"].get<uint64_t>(),
+              cl["cycles"].get<uint64_t>());
+    EXPECT_TRUE(std::any_of(sl["lines"].begin(), sl["lines"].end(), [](const json& l) {
+        return l["file"].get<std::string>().find("ddmr_tracking.ino") != std::string::npos;
+    }));
+    EXPECT_TRUE(std::any_of(sl["no_line_info"].begin(), sl["no_line_info"].end(),
+                            [](const json& u) { return u["function"] == "__mulsf3_pse"; }));
+    EXPECT_NE(text.find("Call graph (gprof style)"), std::string::npos);
+    // callgrind.out: the control loop, and callgrind_annotate's total is its cycles.
+    EXPECT_EQ(p["callgrind"]["scope"], "control_loop");
+    EXPECT_EQ(callgrind_annotate(read_text(out / "callgrind.out"), false).total, cl["cycles"].get<uint64_t>());
     EXPECT_NE(text.find("Whole run"), std::string::npos);
     EXPECT_NE(text.find("Control loop"), std::string::npos);
     // --top 3: three ranked rows per scope on stdout.
     EXPECT_NE(r.out.find("Top 3 by self cycles. Whole run"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Top 3 source lines by self cycles. Control loop"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\n   3  "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("\n   4  "), std::string::npos) << r.out;
 }
