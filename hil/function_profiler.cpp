@@ -50,6 +50,10 @@ FunctionProfiler::FunctionProfiler(AvrCore& core, std::size_t max_depth)
     loop_.word_cycles.assign(flash / 2, 0);
     window_word_cycles_.assign(flash / 2, 0);
     window_words_.reserve(flash / 2);  // each word at most once per window: no reallocation
+    compute_.functions.assign(map_.size(), FunctionCounts{});
+    compute_.word_cycles.assign(flash / 2, 0);
+    window_compute_word_cycles_.assign(flash / 2, 0);
+    window_compute_words_.reserve(flash / 2);
     site_edge_.assign(flash / 2, 0);
     last_pc_ = core_.pc();
     last_sp_ = core_.stack_pointer();
@@ -85,6 +89,12 @@ void FunctionProfiler::on_instruction() {
     if (delta != 0) {
         if (window_word_cycles_[word] == 0) window_words_.push_back(word);
         window_word_cycles_[word] += delta;
+        if (wait_frames_ == 0) {  // outside the loop's wait: compute
+            if (window_compute_word_cycles_[word] == 0) window_compute_words_.push_back(word);
+            window_compute_word_cycles_[word] += delta;
+            window_compute_cycles_ += delta;
+            if (level_ != 0) window_compute_interrupt_cycles_ += delta;
+        }
     }
     whole_.cycles += delta;
     level_cycles_[level_] += delta;  // inclusive, settled when frames close
@@ -184,6 +194,7 @@ void FunctionProfiler::push(FunctionId function, uint16_t sp_at_entry, bool is_i
     if (depth_ == max_depth_) {  // the new frame replaces the top one
         ++overflows_;
         --depth_;
+        if (stack_[depth_].function == wait_function_) --wait_frames_;
         close(stack_[depth_]);
         replaced_base = depth_ == context_base_ && context_base_ != 0;
     }
@@ -197,6 +208,7 @@ void FunctionProfiler::push(FunctionId function, uint16_t sp_at_entry, bool is_i
     stack_[depth_] =
         Frame{function, sp_at_entry, level, is_interrupt, is_tail, true, false, level_cycles_[level], edge};
     ++depth_;
+    if (function == wait_function_) ++wait_frames_;
     level_ = level;
     if (depth_ > max_depth_seen_) max_depth_seen_ = depth_;
     if (is_interrupt) {
@@ -208,7 +220,11 @@ void FunctionProfiler::push(FunctionId function, uint16_t sp_at_entry, bool is_i
 }
 
 void FunctionProfiler::pop_to(std::size_t depth) {
-    while (depth_ > depth) close(stack_[--depth_]);
+    while (depth_ > depth) {
+        --depth_;
+        if (stack_[depth_].function == wait_function_) --wait_frames_;
+        close(stack_[depth_]);
+    }
     level_ = stack_[depth_ - 1].level;
     if (context_base_ >= depth_) find_context_base();
 }
@@ -263,6 +279,15 @@ ProfileScope FunctionProfiler::whole_run() const {
     return s;
 }
 
+void FunctionProfiler::set_wait_function(FunctionId function) {
+    if (function >= map_.size()) throw std::invalid_argument("FunctionProfiler: no such wait function");
+    wait_function_ = function;
+    wait_frames_ = 0;
+    for (std::size_t i = 0; i < depth_; ++i) {
+        if (stack_[i].function == function) ++wait_frames_;
+    }
+}
+
 void FunctionProfiler::on_loop_boundary(bool completed) {
     on_instruction();  // account the step that returned from the mark, if not yet
     settle_open_frames();
@@ -282,12 +307,26 @@ void FunctionProfiler::on_loop_boundary(bool completed) {
             loop_.edges[e].inclusive_cycles += whole_.edges[e].inclusive_cycles - start.inclusive_cycles;
         }
         for (const uint32_t word : window_words_) loop_.word_cycles[word] += window_word_cycles_[word];
+        if (has_wait_function()) {
+            for (const uint32_t word : window_compute_words_) {
+                const Cycles c = window_compute_word_cycles_[word];
+                compute_.word_cycles[word] += c;
+                compute_.functions[map_.at(word << 1)].self_cycles += c;
+            }
+            compute_.cycles += window_compute_cycles_;
+            compute_.interrupt_cycles += window_compute_interrupt_cycles_;
+            ++compute_.iterations;
+        }
         loop_.cycles += whole_.cycles - window_start_cycles_;
         loop_.interrupt_cycles += whole_.interrupt_cycles - window_start_interrupt_cycles_;
         ++loop_.iterations;
     }
     for (const uint32_t word : window_words_) window_word_cycles_[word] = 0;
     window_words_.clear();
+    for (const uint32_t word : window_compute_words_) window_compute_word_cycles_[word] = 0;
+    window_compute_words_.clear();
+    window_compute_cycles_ = 0;
+    window_compute_interrupt_cycles_ = 0;
     window_start_ = whole_.functions;  // same size: no allocation
     window_start_edges_ = whole_.edges;  // reallocates only when edges were added
     window_start_cycles_ = whole_.cycles;

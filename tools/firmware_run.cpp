@@ -487,6 +487,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     if (loop_mark) {
         profiler.emplace(core, *loop_mark);
         function_profiler.emplace(core);
+        // The compute scope: the loop without the wait in its mark (delay() and what it calls).
+        function_profiler->set_wait_function(function_profiler->map().at(loop_mark->address));
         profiler->set_iteration_listener([&](bool completed) { function_profiler->on_loop_boundary(completed); });
     }
     // trace.csv: the user's globals, per iteration or every N cycles.

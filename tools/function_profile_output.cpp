@@ -25,16 +25,25 @@ struct ScopeView {
     std::string description;
     hil::ProfileScope scope;
     bool control_loop;
+    bool self_only = false;  ///< compute: self cycles only (no calls, inclusive cycles or call graph)
 };
 
 std::vector<ScopeView> scopes(const hil::FunctionProfiler& p, const FunctionProfileContext& c) {
-    return {
+    std::vector<ScopeView> v = {
         {"whole_run", "Whole run", "every instruction from reset to the end of the run", p.whole_run(), false},
         {"control_loop", "Control loop",
          "completed control-loop iterations: from one return of " + c.loop_mark +
              "() to the next, from the first return after the case byte was sent",
          p.control_loop(), true},
     };
+    if (p.has_wait_function()) {
+        v.push_back({"compute", "Compute",
+                     "the control loop without its wait: the same iterations, only while " + c.loop_mark +
+                         "() is not running (from its return to its next call; interrupts then included); "
+                         "self cycles only",
+                     p.compute(), true, true});
+    }
+    return v;
 }
 
 /// Functions that ran in `scope`, by self cycles (largest first), ties by address.
@@ -209,8 +218,13 @@ std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const Func
     constexpr std::size_t kNameWidth = 44;
     const hil::ProfileScope& s = v.scope;
     std::string out = scope_heading(v, c) + fmt::format("\n  ({})\n", v.description);
-    out += fmt::format("{:>4}  {:<{}} {:>8} {:>8} {:>12} {:>7} {:>12} {:>7} {:>12}\n", "#", "function", kNameWidth,
-                       "address", "calls", "self_cyc", "self%", "incl_cyc", "incl%", "self_us");
+    if (v.self_only) {
+        out += fmt::format("{:>4}  {:<{}} {:>8} {:>12} {:>7} {:>12}\n", "#", "function", kNameWidth, "address",
+                           "self_cyc", "self%", "self_us");
+    } else {
+        out += fmt::format("{:>4}  {:<{}} {:>8} {:>8} {:>12} {:>7} {:>12} {:>7} {:>12}\n", "#", "function",
+                           kNameWidth, "address", "calls", "self_cyc", "self%", "incl_cyc", "incl%", "self_us");
+    }
     const auto ids = ranked(p, s);
     for (std::size_t i = 0; i < ids.size() && i < limit; ++i) {
         const auto& info = p.map().function(ids[i]);
@@ -219,6 +233,12 @@ std::string table(const hil::FunctionProfiler& p, const ScopeView& v, const Func
         if (name.size() > kNameWidth) {
             name.resize(kNameWidth - 3);
             name += "...";
+        }
+        if (v.self_only) {
+            out += fmt::format("{:>4}  {:<{}} {:>#8x} {:>12} {:>6.2f}% {:>12.1f}\n", i + 1, name, kNameWidth,
+                               info.address, f.self_cycles, 100.0 * share(f.self_cycles, s.cycles),
+                               to_us(f.self_cycles, c.clock_hz));
+            continue;
         }
         out += fmt::format("{:>4}  {:<{}} {:>#8x} {:>8} {:>12} {:>6.2f}% {:>12} {:>6.2f}% {:>12.1f}\n", i + 1, name,
                            kNameWidth, info.address, f.calls, f.self_cycles, 100.0 * share(f.self_cycles, s.cycles),
@@ -274,20 +294,22 @@ json function_profile_json(const hil::FunctionProfiler& p, const FunctionProfile
                         {"demangled", demangle(info.name)},
                         {"aliases", info.aliases},
                         {"address", info.address},
-                        {"calls", f.calls},
                         {"self_cycles", f.self_cycles},
                         {"self_share", share(f.self_cycles, s.cycles)},
-                        {"inclusive_cycles", f.inclusive_cycles},
-                        {"inclusive_share", share(f.inclusive_cycles, s.cycles)},
                         {"self_us", to_us(f.self_cycles, c.clock_hz)}};
+            if (!v.self_only) {
+                row["calls"] = f.calls;
+                row["inclusive_cycles"] = f.inclusive_cycles;
+                row["inclusive_share"] = share(f.inclusive_cycles, s.cycles);
+            }
             functions.push_back(std::move(row));
         }
         json scope = {{"description", v.description},
                       {"cycles", s.cycles},
                       {"interrupt_cycles", s.interrupt_cycles},
                       {"functions", std::move(functions)},
-                      {"call_graph", call_graph_json(p, s)},
                       {"source_lines", source_lines_json(p, s, c.lines)}};
+        if (!v.self_only) scope["call_graph"] = call_graph_json(p, s);
         if (v.control_loop) {
             scope["iterations"] = s.iterations;
             scope["loop_mark"] = c.loop_mark;
@@ -316,7 +338,9 @@ std::string function_profile_text(const hil::FunctionProfiler& p, const Function
         "Call graph (gprof style): functions by inclusive cycles; above each, its callers, below it,\n"
         "its callees, with the inclusive cycles of those calls and their count out of the callee's\n"
         "calls. <spontaneous>: the reset and interrupt entries (no caller).\n\n";
-    for (const ScopeView& v : views) out += call_graph_text(p, v, c);
+    for (const ScopeView& v : views) {
+        if (!v.self_only) out += call_graph_text(p, v, c);
+    }
     return out;
 }
 
@@ -327,7 +351,8 @@ std::string function_profile_top(const hil::FunctionProfiler& p, const FunctionP
     for (const ScopeView& v : views) {
         out += fmt::format("Top {} by self cycles. ", top_n) + table(p, v, c, top_n);
     }
-    const ScopeView& lines = p.control_loop().iterations > 0 ? views[1] : views[0];
+    // The lines a person can act on: the loop's own work (compute) when there is a loop.
+    const ScopeView& lines = p.control_loop().iterations == 0 ? views[0] : views.back();
     out += fmt::format("Top {} source lines by self cycles. ", top_n) + lines_text(p, lines, c, top_n);
     return out;
 }

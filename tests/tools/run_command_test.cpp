@@ -344,7 +344,34 @@ TEST(RunCommand, ProfileMeasuresEveryIteration) {
     EXPECT_NE(text.find("Control loop"), std::string::npos);
     // --top 3: three ranked rows per scope on stdout.
     EXPECT_NE(r.out.find("Top 3 by self cycles. Whole run"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("Top 3 source lines by self cycles. Control loop"), std::string::npos) << r.out;
+    // The compute scope: the loop without delay()'s wait, self cycles only;
+    // its total is loop_profile.csv's compute but for a few interrupts taken
+    // in the same step as delay()'s CALL or RET (hil/function_profiler.hpp).
+    const json& cp = p["scopes"]["compute"];
+    EXPECT_EQ(cp["iterations"], 799);
+    EXPECT_FALSE(cp.contains("call_graph"));
+    EXPECT_FALSE(cp["functions"][0].contains("inclusive_cycles"));
+    uint64_t compute_self = 0;
+    for (const json& fn : cp["functions"]) {
+        compute_self += fn["self_cycles"].get<uint64_t>();
+        EXPECT_NE(fn["name"], "delay");  // the wait, never compute
+        EXPECT_NE(fn["name"], "micros");
+    }
+    EXPECT_EQ(compute_self, cp["cycles"].get<uint64_t>());
+    uint64_t loop_compute = 0;
+    {
+        std::istringstream csv(read_text(out / "loop_profile.csv"));
+        std::string row;
+        std::getline(csv, row);  // iteration,start_cycle,compute_cycles,...
+        while (std::getline(csv, row)) {
+            const std::size_t a = row.find(',', row.find(',') + 1) + 1;
+            loop_compute += std::stoull(row.substr(a, row.find(',', a) - a));
+        }
+    }
+    const double apart = std::abs(static_cast<double>(loop_compute) - cp["cycles"].get<double>());
+    EXPECT_LT(apart, 1000.0) << loop_compute << " vs " << cp["cycles"];  // a few ISRs of ~100 cycles
+    EXPECT_NE(r.out.find("Top 3 by self cycles. Compute"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Top 3 source lines by self cycles. Compute"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\n   3  "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("\n   4  "), std::string::npos) << r.out;
 }
