@@ -176,12 +176,29 @@ TEST(SketchLibraries, ANamedFolderMustExist) {
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--libraries"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "out"));
+    // A library itself, not a folder of libraries (a common slip): said so, with its parent.
+    for (const char* lib : {"WheelOdometry", "SoftStart"}) {
+        const auto one = run_sketch(dir, ino, " --libraries " + sh_quote((example() / "libraries" / lib).string()));
+        EXPECT_EQ(one.exit_code, 2) << lib;
+        EXPECT_NE(one.err.find("a library itself"), std::string::npos) << one.err;
+        EXPECT_NE(one.err.find("give the folder that holds it (" + (example() / "libraries").string() + ")"),
+                  std::string::npos)
+            << one.err;
+    }
     std::ofstream(dir / "s.yaml") << "timeout: 1s\nfirmware: { sketch: library_odometry/library_odometry.ino }\n"
                                      "libraries: [nowhere]\nsteps:\n  - delay: 1ms\n";
     const auto s = run_command(env_of(dir) + sh_quote(cli_path().string()) + " scenario " +
                                sh_quote((dir / "s.yaml").string()) + " --out " + sh_quote((dir / "sout").string()));
     EXPECT_EQ(s.exit_code, 2);
     EXPECT_NE(s.err.find("s.yaml:3: key 'libraries[0]': 'nowhere' is not a folder"), std::string::npos) << s.err;
+    fs::copy(example() / "libraries/SoftStart", dir / "SoftStart", fs::copy_options::recursive);
+    std::ofstream(dir / "s.yaml") << "timeout: 1s\nfirmware: { sketch: library_odometry/library_odometry.ino }\n"
+                                     "libraries: [SoftStart]\nsteps:\n  - delay: 1ms\n";
+    const auto l = run_command(env_of(dir) + sh_quote(cli_path().string()) + " scenario " +
+                               sh_quote((dir / "s.yaml").string()) + " --out " + sh_quote((dir / "sout").string()));
+    EXPECT_EQ(l.exit_code, 2);
+    EXPECT_NE(l.err.find("'SoftStart' is a library itself (it has SoftStart.cpp at its top)"), std::string::npos)
+        << l.err;
 }
 
 // The log lines arduino-builder 1.3.25 prints (-verbose), and avr-gcc's.

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <regex>
 #include <sstream>
@@ -20,6 +21,19 @@ std::optional<fs::path> sketchbook_libraries() {
     return std::nullopt;
 }
 
+std::optional<std::string> library_itself(const fs::path& dir) {
+    if (fs::is_regular_file(dir / "library.properties")) return std::string("it has library.properties");
+    std::vector<std::string> sources;  // sorted: the same message whatever the folder's order
+    for (const auto& e : fs::directory_iterator(dir)) {
+        const std::string ext = e.path().extension().string();
+        if (e.is_regular_file() && (ext == ".h" || ext == ".hpp" || ext == ".cpp" || ext == ".c")) {
+            sources.push_back(e.path().filename().string());
+        }
+    }
+    if (sources.empty()) return std::nullopt;
+    return fmt::format("it has {} at its top", *std::min_element(sources.begin(), sources.end()));
+}
+
 LibraryFolders library_folders(const fs::path& ino, const std::vector<fs::path>& named) {
     LibraryFolders f;
     const auto add = [&f](const fs::path& dir) {
@@ -34,6 +48,11 @@ LibraryFolders library_folders(const fs::path& ino, const std::vector<fs::path>&
     for (const auto& dir : named) {
         if (!fs::is_directory(dir)) {
             throw std::invalid_argument(fmt::format("--libraries {}: no such folder", dir.string()));
+        }
+        if (const auto what = library_itself(dir)) {
+            throw std::invalid_argument(fmt::format(
+                "--libraries {}: a library itself ({}), not a folder of libraries: give the folder that holds it ({})",
+                dir.string(), *what, fs::absolute(dir).lexically_normal().parent_path().string()));
         }
         add(dir);
     }

@@ -37,9 +37,16 @@ struct LibraryFolders {
 /// else $HOME/Arduino/libraries; nullopt without either variable.
 std::optional<std::filesystem::path> sketchbook_libraries();
 
+/// Why `dir` looks like one library rather than a folder of libraries ("it
+/// has library.properties", "it has X.h at its top": the legacy flat
+/// layout), or nullopt.
+std::optional<std::string> library_itself(const std::filesystem::path& dir);
+
 /// The folders for `ino` with the user's `named` folders (absolute or
 /// relative to the working directory). Throws std::invalid_argument
-/// "--libraries DIR: no such folder" for a named folder that is not a folder.
+/// "--libraries DIR: no such folder" for a named folder that is not a folder,
+/// and "--libraries DIR: a library itself ..." for one that is a library
+/// (library.properties, or sources at its top) rather than a folder of them.
 LibraryFolders library_folders(const std::filesystem::path& ino, const std::vector<std::filesystem::path>& named);
 
 /// A library arduino-builder used.

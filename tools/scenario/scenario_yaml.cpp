@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/arduino_libraries.hpp"
 #include "common/platformio_project.hpp"
 #include "hil/board.hpp"
 #include "hil/plant_coupler.hpp"
@@ -684,6 +685,11 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
             }
             const fs::path full = (folder / p).lexically_normal();
             if (!fs::is_directory(full)) d.fail(fmt::format("'{}' is not a folder ({})", p.string(), full.string()));
+            if (const auto why = library_itself(full)) {
+                d.fail(fmt::format("'{}' is a library itself ({}), not a folder of libraries: name the folder that "
+                                   "holds it",
+                                   p.string(), *why));
+            }
             s.libraries.push_back(full);
         }
     }
