@@ -11,7 +11,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CASE       ?= 1
 OUT        ?= out/run-case$(CASE)
 
-.PHONY: all deps configure build build-asan run test test-asan bench fuzz lint clean help
+.PHONY: all deps configure build build-run build-asan run test test-asan bench fuzz lint clean help
 
 all: build
 
@@ -35,10 +35,15 @@ configure: deps $(BUILD)/CMakeCache.txt
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
+# What `make run` runs, and only that: the front end and the reference
+# firmware (not the tests, benchmarks and mutated sketches `make build` adds).
+build-run: configure
+	cmake --build $(BUILD) -j $(JOBS) --target ddmr-hil ddmr_firmware
+
 # The HIL run, its comparison with the host simulation (exit 1 = beyond
 # tolerance: reported, the report is still written; 2 = error: stop), and the
 # report with its plots.
-run: build
+run: build-run
 	./$(BUILD)/ddmr-hil run --case $(CASE) --out $(OUT)
 	@rc=0; ./$(BUILD)/ddmr-hil compare $(OUT) || rc=$$?; \
 	    if [ $$rc -gt 1 ]; then exit $$rc; fi; \
