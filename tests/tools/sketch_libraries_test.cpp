@@ -100,6 +100,12 @@ TEST(SketchLibraries, FromTheSketchbookOfHome) {
     const json s = json::parse(read_text(dir / "out/summary.json"));
     EXPECT_EQ(s["firmware_source"]["libraries"][0]["folder"],
               (dir / "home/Arduino/libraries/WheelOdometry").string());
+    // Another library installed beside them: another build (it could shadow one).
+    fs::create_directories(dir / "home/Arduino/libraries/Unrelated");
+    std::ofstream(dir / "home/Arduino/libraries/Unrelated/Unrelated.h") << "#pragma once\n";
+    const auto installed = run_sketch(dir, ino, "");
+    ASSERT_EQ(installed.exit_code, 0) << installed.err;
+    EXPECT_EQ(json::parse(read_text(dir / "out/summary.json"))["firmware_source"]["from_cache"], false);
     // A library changed since the build: built again, not the stale ELF.
     std::ofstream(dir / "home/Arduino/libraries/SoftStart/SoftStart.cpp", std::ios::app) << "\n// edited\n";
     const auto again = run_sketch(dir, ino, "");

@@ -181,7 +181,16 @@ SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options)
     Sha256 key;
     key.update(options.fqbn + '\n' + stem + '\n');
     hash_folder(key, fs::absolute(ino).parent_path());
-    for (const auto& dir : b.folders.existing) key.update("-libraries " + dir.string() + '\n');
+    for (const auto& dir : b.folders.existing) {
+        // The folder and the libraries in it: one installed since is another build.
+        key.update("-libraries " + dir.string() + '\n');
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(dir)) {
+            if (e.is_directory()) names.push_back(e.path().filename().string());
+        }
+        std::sort(names.begin(), names.end());
+        for (const auto& n : names) key.update("  " + n + '\n');
+    }
     std::string board = options.fqbn;
     std::replace_if(board.begin(), board.end(), [](char c) { return c == ':' || c == '=' || c == ','; }, '_');
     const fs::path entry = options.cache / (key.hex() + "-" + board + "-" + stem);

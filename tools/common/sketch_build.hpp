@@ -7,7 +7,8 @@
 //
 // The cache holds one folder per SHA-256 of the board (FQBN), the sketch's
 // name, every file of the sketch's folder (its .ino, .cpp, .h and src/,
-// names and contents) and the library folders given to arduino-builder.
+// names and contents), the library folders given to arduino-builder and the
+// names of the libraries in them.
 // Beside the ELF it keeps build.log (arduino-builder -verbose) and
 // libraries.json (the libraries arduino-builder used, each with a SHA-256 of
 // its folder): an entry whose libraries changed since is built again. A
