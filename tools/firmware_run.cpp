@@ -1017,11 +1017,13 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                  {"details", "isr.json"}}},
         {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", reports ? report_json(result.report) : json(nullptr)},
-        {"unity", result.unity ? json{{"tests", result.unity->tests},
-                                      {"failures", result.unity->failures},
-                                      {"ignored", result.unity->ignored},
-                                      {"ok", result.unity->ok}}
-                               : json(nullptr)},
+        {"unity", result.unity    ? json{{"complete", true},
+                                         {"tests", result.unity->tests},
+                                         {"failures", result.unity->failures},
+                                         {"ignored", result.unity->ignored},
+                                         {"ok", result.unity->ok}}
+                  : options.unity ? json{{"complete", false}}  // the summary never came
+                                  : json(nullptr)},
         {"firmware_source", options.firmware_source},
         {"report_fields", [&] {
              if (field_patterns.empty()) return json(nullptr);

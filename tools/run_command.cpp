@@ -65,16 +65,43 @@ void resolve_firmware(const RunCli& cli, FirmwareRunOptions& o) {
     }
     if (!cli.pio_env.empty() && cli.platformio.empty()) throw std::invalid_argument("--env: only with --platformio DIR");
     if (!cli.platformio.empty()) {
-        const PlatformioProject p = load_platformio_project(cli.platformio, cli.pio_env);
+        // The project folder, or its platformio.ini.
+        fs::path dir = cli.platformio;
+        if (dir.filename() == "platformio.ini" && fs::is_regular_file(dir)) dir = dir.parent_path();
+        const PlatformioProject p = load_platformio_project(dir.empty() ? fs::path(".") : dir, cli.pio_env);
+        const std::string env_board = fmt::format("{}'s [env:{}] builds for board = {} ({})",
+                                                  (p.dir / "platformio.ini").string(), p.env, p.board_id,
+                                                  hil::board_description(p.board).key);
         if (!cli.board_name.empty() && hil::parse_board_key(cli.board_name) != p.board) {
-            throw std::invalid_argument(fmt::format("--board-name {}: {}'s [env:{}] is for board {} ({})", cli.board_name,
-                                                    (p.dir / "platformio.ini").string(), p.env, p.board_id,
-                                                    hil::board_description(p.board).key));
+            throw std::invalid_argument(fmt::format("--board-name {}: {}; leave --board-name out, or use the "
+                                                    "environment for your board (--env)",
+                                                    cli.board_name, env_board));
+        }
+        if (!cli.board_file.empty()) {
+            const hil::BoardModel wired = hil::load_board_file(cli.board_file).model;
+            if (wired != p.board) {
+                throw std::invalid_argument(fmt::format(
+                    "--board {}: its board is {} (board: {}), but {}: put board: {} in the board file, or use the "
+                    "environment for your board (--env)",
+                    cli.board_file, hil::board_description(wired).label, hil::board_description(wired).key, env_board,
+                    hil::board_description(p.board).key));
+            }
         }
         o.firmware = p.elf;
         o.board_name = p.board;
         o.firmware_source = platformio_json(p);
     } else if (!cli.sketch.empty()) {
+        // A sketch folder x/ is x/x.ino (as arduino-cli takes it).
+        fs::path ino = cli.sketch;
+        if (fs::is_directory(ino)) {
+            const fs::path folder = ino.filename().empty() ? ino.parent_path() : ino;
+            ino = folder / (folder.filename().string() + ".ino");
+            if (!fs::is_regular_file(ino)) {
+                throw std::invalid_argument(fmt::format("--sketch {}: a folder without {} (a sketch folder holds the "
+                                                        ".ino of its name)",
+                                                        cli.sketch, ino.filename().string()));
+            }
+        }
         // The board: --board-name, else the board file's, else the Uno.
         hil::BoardModel model = hil::BoardModel::uno;
         if (!cli.board_name.empty()) {
@@ -85,7 +112,7 @@ void resolve_firmware(const RunCli& cli, FirmwareRunOptions& o) {
         SketchBuildOptions b;
         b.fqbn = hil::board_description(model).fqbn;
         for (const auto& dir : cli.libraries) b.libraries.emplace_back(dir);
-        const SketchBuild built = build_sketch(cli.sketch, b);
+        const SketchBuild built = build_sketch(ino, b);
         std::fprintf(stderr, "%s\n", describe_libraries(built).c_str());  // even with -q: what was built from what
         o.firmware = built.elf;
         o.firmware_source = sketch_build_json(built);
@@ -110,16 +137,14 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
         ->capture_default_str();
     sub->add_option("--sketch", cli->sketch,
                     "Build this Arduino sketch (x/x.ino) for the board with arduino-builder (cached) and run it, "
-                    "instead of --firmware (docs/firmware.md)")
-        ->check(CLI::ExistingFile);
+                    "instead of --firmware (docs/firmware.md); a sketch folder x/ means x/x.ino");
     sub->add_option("--libraries", cli->libraries,
                     "A folder of Arduino libraries for --sketch (repeatable; after the sketch's src/, before "
                     "~/Arduino/libraries)")
         ->check(CLI::ExistingDirectory);
     sub->add_option("--platformio", cli->platformio,
                     "Run the ELF `pio run` left in this PlatformIO project (.pio/build/ENV/firmware.elf), on "
-                    "the board its platformio.ini names, instead of --firmware")
-        ->check(CLI::ExistingDirectory);
+                    "the board its platformio.ini names, instead of --firmware");
     sub->add_option("--env", cli->pio_env,
                     "The PlatformIO environment for --platformio [default: default_envs' first, or the only one]");
     sub->add_flag("--unity", cli->unity,

@@ -68,7 +68,12 @@ sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
         o.fqbn = hil::board_description(s.board.model).fqbn;
         o.libraries = s.libraries;
         for (const auto& dir : cli.libraries) o.libraries.emplace_back(dir);
-        s.sketch_build = build_sketch(*s.sketch, o);
+        o.more_libraries_advice = "name its folder in the scenario's libraries: [DIR] (or pass --libraries DIR)";
+        try {
+            s.sketch_build = build_sketch(*s.sketch, o);
+        } catch (const SketchBuildError& e) {
+            throw SketchBuildError(fmt::format("{}: {}", file, e.what()));  // which scenario's sketch
+        }
         s.firmware = s.sketch_build->elf;
         if (!cli.worker) std::fprintf(stderr, "%s\n", describe_libraries(*s.sketch_build).c_str());
     }

@@ -70,7 +70,7 @@ TEST(PlatformioProject, ReadsTheBoardAndTheElf) {
     // extends and [env]: the board comes from the section extended.
     std::ofstream(p / "platformio.ini") << "[common]\nboard = megaatmega2560\n[env:m]\nextends = common\n";
     fs::create_directories(p / ".pio/build/m");
-    fs::copy_file(firmware_elf(), p / ".pio/build/m/firmware.elf");
+    fs::copy_file(test_firmware_dir() / "mega_l298n_int45.elf", p / ".pio/build/m/firmware.elf");
     fs::last_write_time(p / ".pio/build/m/firmware.elf", fs::last_write_time(p / "platformio.ini") + std::chrono::seconds(5));
     EXPECT_EQ(tools::load_platformio_project(p, "m").board, hil::BoardModel::mega2560);
     // The shipped example (firmware/examples/platformio): its default environment, the Uno.
@@ -128,6 +128,21 @@ TEST(PlatformioProject, RefusesAMissingOrStaleElf) {
                   std::string::npos)
             << e.what();
     }
+    // The Uno's ELF where the environment says Mega: refused, saying what to do.
+    std::ofstream(p / "platformio.ini") << "[env:robot]\nboard = megaatmega2560\n";
+    fs::remove(p / "lib/Drive/Drive.cpp");
+    fs::last_write_time(p / ".pio/build/robot/firmware.elf",
+                        fs::last_write_time(p / "platformio.ini") + std::chrono::seconds(5));
+    try {
+        tools::load_platformio_project(p, "robot");
+        ADD_FAILURE() << "an ELF for another MCU was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("not a program for the ATmega2560 of [env:robot] (board = "
+                                             "megaatmega2560): build it again with `pio run -e robot`, or correct "
+                                             "board ="),
+                  std::string::npos)
+            << e.what();
+    }
     fs::remove(p / ".pio/build/robot/firmware.elf");
     try {
         tools::load_platformio_project(p, "robot");
@@ -160,7 +175,24 @@ TEST(PlatformioProject, RunAndScenarioUseTheProjectsElfAndBoard) {
     const auto mega = run_command(sh_quote(cli_path().string()) + " run --platformio " + sh_quote(p.string()) +
                                   " --board-name mega2560 --out " + sh_quote((dir / "o3").string()));
     EXPECT_EQ(mega.exit_code, 2);
-    EXPECT_NE(mega.err.find("is for board uno"), std::string::npos) << mega.err;
+    EXPECT_NE(mega.err.find("--board-name mega2560: " + (p / "platformio.ini").string() +
+                            "'s [env:robot] builds for board = uno (uno)"),
+              std::string::npos)
+        << mega.err;
+    // A board file for another board: said about the board file.
+    const auto nano = run_command(sh_quote(cli_path().string()) + " run --platformio " + sh_quote(p.string()) +
+                                  " --board " +
+                                  sh_quote((source_dir() / "firmware/examples/drv8833_nano_mirrored/board.yaml").string()) +
+                                  " --out " +
+                                  sh_quote((dir / "o4").string()));
+    EXPECT_EQ(nano.exit_code, 2);
+    EXPECT_NE(nano.err.find("its board is Arduino Nano (ATmega328P) (board: nano), but "), std::string::npos) << nano.err;
+    EXPECT_NE(nano.err.find("put board: uno in the board file"), std::string::npos) << nano.err;
+    // The project's platformio.ini names the project as well as its folder.
+    const auto ini = run_command(sh_quote(cli_path().string()) + " run -q --platformio " +
+                                 sh_quote((p / "platformio.ini").string()) + " --seconds 0.1 --out " +
+                                 sh_quote((dir / "o5").string()));
+    EXPECT_EQ(ini.exit_code, 0) << ini.err;
     EXPECT_FALSE(fs::exists(dir / "o2"));
     EXPECT_FALSE(fs::exists(dir / "o3"));
     // A scenario beside the project names it (relative to the scenario file).
@@ -212,6 +244,7 @@ TEST(UnityRun, TheExitCodeFollowsUnitysVerdictAndStdoutIsTheUart) {
             << r.err;
         const json s = json::parse(read_text(out / "summary.json"));
         EXPECT_EQ(s["unity"]["failures"], variant == "ok" ? 0 : 1);
+        EXPECT_EQ(s["unity"]["complete"], true);
         EXPECT_EQ(s["exit_reason"], "report_complete");
         EXPECT_LT(s["sim_seconds"].get<double>(), 0.5);  // ended by the summary, not by --seconds
     }
@@ -223,6 +256,7 @@ TEST(UnityRun, TheExitCodeFollowsUnitysVerdictAndStdoutIsTheUart) {
     EXPECT_NE(never.err.find("Unity's summary ('N Tests N Failures N Ignored', then OK or FAIL) never came"),
               std::string::npos)
         << never.err;
+    EXPECT_EQ(json::parse(read_text(dir / "never/summary.json"))["unity"], json({{"complete", false}}));
 }
 
 }  // namespace

@@ -207,6 +207,50 @@ TEST(SketchLibraries, ANamedFolderMustExist) {
         << l.err;
 }
 
+TEST(SketchLibraries, TheSketchsOwnCopyWinsAndTheOtherIsSaid) {
+    TempDir dir;
+    const fs::path ino = copy_sketch(dir);
+    // The same two libraries in the sketch's src/, a named folder and the sketchbook:
+    // the sketch's own copies are used (the first folder of docs/firmware.md's list).
+    fs::copy(example() / "libraries", ino.parent_path() / "src", fs::copy_options::recursive);
+    fs::create_directories(dir / "home/Arduino");
+    fs::copy(example() / "libraries", dir / "home/Arduino/libraries", fs::copy_options::recursive);
+    fs::copy(example() / "libraries", dir / "named", fs::copy_options::recursive);
+    const auto r = run_sketch(dir, ino, " --libraries " + sh_quote((dir / "named").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json s = json::parse(read_text(dir / "out/summary.json"));
+    EXPECT_EQ(s["firmware_source"]["libraries"][0]["folder"], (ino.parent_path() / "src/WheelOdometry").string());
+    // arduino-builder's choice among the copies is said, on stderr and in summary.json.
+    const std::string said = "warning: 'WheelOdometry.h' is in 3 libraries: used " +
+                             (ino.parent_path() / "src/WheelOdometry").string();
+    EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+    EXPECT_FALSE(s["firmware_source"]["warnings"].empty());
+    // Without the sketch's copies, the named folder's beat the sketchbook's.
+    fs::remove_all(ino.parent_path() / "src");
+    const auto named = run_sketch(dir, ino, " --libraries " + sh_quote((dir / "named").string()));
+    ASSERT_EQ(named.exit_code, 0) << named.err;
+    EXPECT_EQ(json::parse(read_text(dir / "out/summary.json"))["firmware_source"]["libraries"][0]["folder"],
+              (dir / "named/WheelOdometry").string());
+    // A sketch folder names its sketch.
+    const auto folder = run_sketch(dir, ino.parent_path(), " --libraries " + sh_quote((dir / "named").string()));
+    EXPECT_EQ(folder.exit_code, 0) << folder.err;
+}
+
+TEST(SketchLibraries, ACompileErrorIsShownNotOnlyLogged) {
+    TempDir dir;
+    fs::create_directories(dir / "bad");
+    std::ofstream(dir / "bad/bad.ino") << "void setup() { Serial.begin(9600) }\nvoid loop() {}\n";
+    const auto r = run_sketch(dir, dir / "bad/bad.ino", "");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("arduino-builder failed (exit 1): " + (dir / "bad/bad.ino").string() + ":1:"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("error: expected"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("its whole output: "), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 // The log lines arduino-builder 1.3.25 prints (-verbose), and avr-gcc's.
 TEST(ArduinoLibraries, ReadsWhatTheBuilderAndTheCompilerSay) {
     const auto used = tools::parse_used_libraries(
@@ -229,6 +273,18 @@ TEST(ArduinoLibraries, ReadsWhatTheBuilderAndTheCompilerSay) {
     EXPECT_EQ(missing->line, 3);
     EXPECT_EQ(missing->header, "Servo.h");
     EXPECT_FALSE(tools::find_missing_header("sk.ino:3:1: error: 'x' was not declared in this scope\n"));
+    EXPECT_EQ(tools::first_build_error("Compiling sketch...\n/s/sk.ino:3:1: error: 'x' was not declared\n"),
+              "/s/sk.ino:3:1: error: 'x' was not declared");
+    EXPECT_EQ(tools::first_build_error("sketch.cpp.o: In function `loop':\nsk.ino:5: undefined reference to `f()'\n"),
+              "sk.ino:5: undefined reference to `f()'");
+    EXPECT_FALSE(tools::first_build_error("Sketch uses 1706 bytes (5%) of program storage space.\n"));
+    const auto warnings = tools::builder_warnings(
+        "Multiple libraries were found for \"Lib.h\"\n Used: /b/Lib\n Not used: /a/Lib\nUsing library Lib at "
+        "version 1.0.2 in folder: /b/Lib \nWARNING: library Lib claims to run on (esp32) architecture(s) and may "
+        "be incompatible with your current board which runs on (avr) architecture(s).\n");
+    ASSERT_EQ(warnings.size(), 2U);
+    EXPECT_EQ(warnings[0], "'Lib.h' is in 2 libraries: used /b/Lib, not used /a/Lib");
+    EXPECT_EQ(warnings[1].rfind("library Lib claims to run on (esp32)", 0), 0U) << warnings[1];
 }
 
 }  // namespace

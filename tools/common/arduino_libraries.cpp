@@ -89,4 +89,56 @@ std::optional<MissingHeader> find_missing_header(const std::string& log) {
     return std::nullopt;
 }
 
+std::vector<std::string> builder_warnings(const std::string& log) {
+    // arduino-builder 1.3.25: 'Multiple libraries were found for "Lib.h"',
+    // then ' Used: DIR' and ' Not used: DIR' lines.
+    static const std::regex multiple(R"(^Multiple libraries were found for \"(.+)\"\s*$)");
+    static const std::regex used(R"(^\s+Used: (.+?)\s*$)");
+    static const std::regex not_used(R"(^\s+Not used: (.+?)\s*$)");
+    std::vector<std::string> out;
+    std::istringstream in(log);
+    std::string header;
+    std::string used_dir;
+    std::vector<std::string> unused;
+    const auto flush = [&] {
+        if (header.empty()) return;
+        std::string w = fmt::format("'{}' is in {} libraries: used {}", header, unused.size() + 1, used_dir);
+        for (const auto& u : unused) w += ", not used " + u;
+        if (std::find(out.begin(), out.end(), w) == out.end()) out.push_back(std::move(w));
+        header.clear();
+        used_dir.clear();
+        unused.clear();
+    };
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        if (std::regex_match(line, m, multiple)) {
+            flush();
+            header = m[1].str();
+        } else if (!header.empty() && std::regex_match(line, m, used)) {
+            used_dir = m[1].str();
+        } else if (!header.empty() && std::regex_match(line, m, not_used)) {
+            unused.push_back(m[1].str());
+        } else {
+            flush();
+            if (line.rfind("WARNING: library ", 0) == 0 && line.find("claims to run on") != std::string::npos &&
+                std::find(out.begin(), out.end(), line) == out.end()) {
+                out.push_back(line.substr(std::string("WARNING: ").size()));
+            }
+        }
+    }
+    flush();
+    return out;
+}
+
+std::optional<std::string> first_build_error(const std::string& log) {
+    static const std::regex compiler(R"(^.+?:[0-9]+:(?:[0-9]+:)? (?:fatal )?error: .+$)");
+    static const std::regex linker(R"(^.+(?:undefined reference to|multiple definition of) .+$)");
+    std::istringstream in(log);
+    for (std::string line; std::getline(in, line);) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (std::regex_match(line, compiler) || std::regex_match(line, linker)) return line;
+    }
+    return std::nullopt;
+}
+
 }  // namespace ddmr::tools

@@ -2,7 +2,9 @@
 // Where an Arduino sketch's libraries are looked for, and what
 // arduino-builder said about them (issue 24).
 //
-// The folders, in the order they are given to arduino-builder (`-libraries`):
+// The folders, by precedence: when two hold a library for the same header,
+// the first one's is used (arduino-builder prefers the `-libraries` folder
+// given last, so they are given in the reverse order):
 //   1. the sketch's own `src/` (Arduino's convention for code shipped with a
 //      sketch: a library copied into `<sketch>/src/<Lib>/`);
 //   2. the folders the user names (`--libraries DIR`, a scenario's
@@ -68,5 +70,14 @@ struct MissingHeader {
 
 /// The first missing header the compiler reported in `log`, if any.
 std::optional<MissingHeader> find_missing_header(const std::string& log);
+
+/// What arduino-builder warns about in `log`, one line each: a header found
+/// in several libraries ("'Lib.h' is in 2 libraries: used /a/Lib, not used
+/// /b/Lib"), a library that claims other architectures (its own WARNING line).
+std::vector<std::string> builder_warnings(const std::string& log);
+
+/// The first compiler or linker error of `log` ("FILE:LINE:COL: error: ...",
+/// "... undefined reference to ...", "... multiple definition of ..."), if any.
+std::optional<std::string> first_build_error(const std::string& log);
 
 }  // namespace ddmr::tools

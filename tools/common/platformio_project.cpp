@@ -2,6 +2,8 @@
 
 #include <ini.h>
 
+#include "hil/elf_image.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -261,6 +263,14 @@ PlatformioProject load_platformio_project(const fs::path& dir, const std::string
     if (const auto newest = newest_file(p.source_dirs); newest && newest->second > fs::last_write_time(p.elf)) {
         throw std::invalid_argument(fmt::format("{}: older than {}: build it again with `pio run -e {}`",
                                                 p.elf.string(), newest->first.string(), p.env));
+    }
+    // The ELF must be a program for the board the environment names.
+    try {
+        hil::ElfImage::read(p.elf).require_mcu(*board.mcu, board.key);
+    } catch (const std::exception&) {
+        throw std::invalid_argument(fmt::format("{}: not a program for the {} of [env:{}] (board = {}): build it "
+                                                "again with `pio run -e {}`, or correct board =",
+                                                p.elf.string(), board.mcu->label, p.env, p.board_id, p.env));
     }
     return p;
 }

@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -83,7 +84,10 @@ std::vector<std::string> builder_args(const fs::path& ino, const fs::path& build
     std::stringstream dirs(DDMR_ARDUINO_HARDWARE_DIRS);
     for (std::string dir; std::getline(dirs, dir, ':');) args.insert(args.end(), {"-hardware", dir});
     args.insert(args.end(), {"-tools", DDMR_ARDUINO_TOOLS_DIR, "-fqbn", fqbn});
-    for (const auto& lib : libraries) args.insert(args.end(), {"-libraries", lib.string()});
+    // arduino-builder prefers the folder given last: the most preferred goes last.
+    for (auto lib = libraries.rbegin(); lib != libraries.rend(); ++lib) {
+        args.insert(args.end(), {"-libraries", lib->string()});
+    }
     // -prefs before the sketch: arduino-builder ignores options after it.
     args.insert(args.end(), {"-build-path", build_dir.string(),
                              std::string("-prefs=") + DDMR_ARDUINO_EXTRA_PREFS, fs::absolute(ino).string()});
@@ -143,13 +147,14 @@ json libraries_json(const std::vector<UsedLibrary>& used, bool with_hash) {
     return a;
 }
 
-/// The cached entry's libraries if every one is unchanged, else nullopt.
-std::optional<std::vector<UsedLibrary>> valid_entry(const fs::path& entry, const fs::path& elf) {
+/// The cached entry's libraries and warnings if every library is unchanged, else nullopt.
+std::optional<std::pair<std::vector<UsedLibrary>, std::vector<std::string>>> valid_entry(const fs::path& entry,
+                                                                                        const fs::path& elf) {
     if (!fs::is_regular_file(elf) || !fs::is_regular_file(entry / "libraries.json")) return std::nullopt;
     try {
         const json j = json::parse(read_text(entry / "libraries.json"));
         std::vector<UsedLibrary> used;
-        for (const auto& l : j) {
+        for (const auto& l : j.at("libraries")) {
             UsedLibrary u{l.at("name").get<std::string>(), l.at("version").get<std::string>(),
                           fs::path(l.at("folder").get<std::string>())};
             if (!fs::is_directory(u.folder) || folder_sha256(u.folder) != l.at("sha256").get<std::string>()) {
@@ -157,7 +162,7 @@ std::optional<std::vector<UsedLibrary>> valid_entry(const fs::path& entry, const
             }
             used.push_back(std::move(u));
         }
-        return used;
+        return std::pair{std::move(used), j.at("warnings").get<std::vector<std::string>>()};
     } catch (const std::exception&) {
         return std::nullopt;  // an unreadable entry is built again
     }
@@ -196,8 +201,9 @@ SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options)
     const fs::path entry = options.cache / (key.hex() + "-" + board + "-" + stem);
     b.elf = entry / (stem + ".elf");
     b.log = entry / "build.log";
-    if (auto used = valid_entry(entry, b.elf)) {
-        b.libraries = std::move(*used);
+    if (auto cached = valid_entry(entry, b.elf)) {
+        b.libraries = std::move(cached->first);
+        b.warnings = std::move(cached->second);
         b.from_cache = true;
         return b;
     }
@@ -228,30 +234,42 @@ SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options)
         log = read_text(work / "build.log");
         b.libraries = parse_used_libraries(log);
     }
+    b.warnings = builder_warnings(log);
+    // A path in the staged copy, as the user knows it.
+    const auto users_path = [&](fs::path file) {
+        if (!staged_dir.empty() && is_under(file, staged_dir)) {
+            file = abs_ino.parent_path() / file.lexically_relative(staged_dir);
+        }
+        return file.lexically_normal() == abs_ino.lexically_normal() ? ino.string() : display(file);
+    };
     if (rc != 0 || !fs::is_regular_file(built)) {
         const fs::path kept = options.cache / fmt::format("failed-{}.log", stem);
         fs::copy_file(work / "build.log", kept, fs::copy_options::overwrite_existing);
         fs::remove_all(work);
         if (const auto missing = find_missing_header(log)) {
-            fs::path file = missing->file;
-            if (!staged_dir.empty() && is_under(file, staged_dir)) {
-                file = abs_ino.parent_path() / file.lexically_relative(staged_dir);
-            }
             const auto book = sketchbook_libraries();
             // The sketch as the user named it; another file (a library's) as the compiler did.
-            const std::string where = file.lexically_normal() == abs_ino.lexically_normal() ? ino.string() : display(file);
             throw SketchBuildError(fmt::format(
-                "{}:{}: '{}' not found in {}; install the library into {} or pass --libraries DIR", where,
+                "{}:{}: '{}' not found in {}; install the library into {} or {}", users_path(missing->file),
                 missing->line, missing->header, folder_list(b.folders),
-                book ? book->string() : std::string("~/Arduino/libraries")));
+                book ? book->string() : std::string("~/Arduino/libraries"), options.more_libraries_advice));
         }
-        throw SketchBuildError(fmt::format("sketch {}: arduino-builder failed (exit {}); its output: {}",
-                                           ino.string(), rc, kept.string()));
+        // The compiler's (or linker's) first error, its file as the user knows it.
+        std::string first;
+        if (auto error = first_build_error(log)) {
+            static const std::regex located(R"(^(.+?)(:[0-9]+:.*)$)");
+            std::smatch m;
+            first = std::regex_match(*error, m, located) ? users_path(m[1].str()) + m[2].str() : *error;
+            first = ": " + first;
+        }
+        throw SketchBuildError(fmt::format("sketch {}: arduino-builder failed (exit {}){}; its whole output: {}",
+                                           ino.string(), rc, first, kept.string()));
     }
     fs::create_directories(work / "entry");
     fs::copy_file(built, work / "entry" / (stem + ".elf"));
     fs::copy_file(work / "build.log", work / "entry" / "build.log");
-    write_file_atomic(work / "entry" / "libraries.json", libraries_json(b.libraries, true).dump(2) + "\n");
+    write_file_atomic(work / "entry" / "libraries.json",
+                      json{{"libraries", libraries_json(b.libraries, true)}, {"warnings", b.warnings}}.dump(2) + "\n");
     std::error_code ec;
     fs::remove_all(entry, ec);  // a stale entry (its libraries changed)
     fs::rename(work / "entry", entry, ec);  // another worker may have won the race: its ELF is the same
@@ -269,18 +287,20 @@ json sketch_build_json(const SketchBuild& build) {
     }
     return {{"sketch", build.sketch.string()},       {"elf", build.elf.string()},
             {"from_cache", build.from_cache},         {"build_log", build.log.string()},
-            {"library_folders", std::move(folders)}, {"libraries", libraries_json(build.libraries, false)}};
+            {"library_folders", std::move(folders)}, {"libraries", libraries_json(build.libraries, false)},
+            {"warnings", build.warnings}};
 }
 
 std::string describe_libraries(const SketchBuild& build) {
-    if (build.libraries.empty()) return fmt::format("sketch {}: no libraries", build.sketch.string());
-    std::string s = fmt::format("sketch {}: librar{} ", build.sketch.string(), build.libraries.size() == 1 ? "y" : "ies");
+    std::string s = fmt::format("sketch {}: ", build.sketch.string());
+    if (build.libraries.empty()) s += "no libraries";
     for (std::size_t i = 0; i < build.libraries.size(); ++i) {
         const auto& u = build.libraries[i];
-        if (i > 0) s += ", ";
+        s += i > 0 ? ", " : (build.libraries.size() == 1 ? "library " : "libraries ");
         s += u.version.empty() ? fmt::format("{} (legacy, {})", u.name, u.folder.string())
                                : fmt::format("{} {} ({})", u.name, u.version, u.folder.string());
     }
+    for (const auto& w : build.warnings) s += fmt::format("\nsketch {}: warning: {}", build.sketch.string(), w);
     return s;
 }
 

@@ -40,6 +40,8 @@ std::filesystem::path default_sketch_cache();
 struct SketchBuildOptions {
     std::string fqbn;                               ///< the board (BoardDescription::fqbn)
     std::vector<std::filesystem::path> libraries;   ///< the user's library folders (--libraries)
+    /// The end of the missing-library line, after "install the library into ~/Arduino/libraries or ".
+    std::string more_libraries_advice = "pass --libraries DIR";
     std::filesystem::path cache = default_sketch_cache();
 };
 
@@ -49,6 +51,7 @@ struct SketchBuild {
     std::filesystem::path log;          ///< arduino-builder's output (build.log in the cache entry)
     LibraryFolders folders;             ///< where libraries were looked for
     std::vector<UsedLibrary> libraries; ///< what arduino-builder used
+    std::vector<std::string> warnings;  ///< arduino-builder's (common/arduino_libraries.hpp builder_warnings)
     bool from_cache = false;
 };
 
@@ -63,7 +66,8 @@ public:
 /// SketchBuildError naming the sketch: not a .ino, its folder not named after
 /// it (Arduino's rule), a header no library folder has (`FILE:LINE: 'X.h'
 /// not found in ...; install the library into ~/Arduino/libraries or pass
-/// --libraries DIR`), any other build failure (with the log's path);
+/// --libraries DIR`), any other build failure (its first compiler or linker
+/// error, and the log's path);
 /// std::invalid_argument for a named library folder that does not exist.
 SketchBuild build_sketch(const std::filesystem::path& ino, const SketchBuildOptions& options);
 
@@ -71,8 +75,9 @@ SketchBuild build_sketch(const std::filesystem::path& ino, const SketchBuildOpti
 ///  "libraries": [{"name", "version", "folder"}]} for summary.json / result.json.
 nlohmann::json sketch_build_json(const SketchBuild& build);
 
-/// One line for the console: "sketch x/x.ino: libraries Servo 1.1.8
-/// (/root/Arduino/libraries/Servo), Foo (legacy, /l/Foo)" or "... no libraries".
+/// For the console: "sketch x/x.ino: libraries Servo 1.1.8
+/// (/root/Arduino/libraries/Servo), Foo (legacy, /l/Foo)" or "... no
+/// libraries", then a line "sketch x/x.ino: warning: ..." per warning.
 std::string describe_libraries(const SketchBuild& build);
 
 }  // namespace ddmr::tools

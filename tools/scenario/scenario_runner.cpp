@@ -784,7 +784,13 @@ private:
             {"name", r.name},
             {"file", r.file.string()},
             {"firmware", s_.firmware.string()},
-            {"sketch", s_.sketch_build ? sketch_build_json(*s_.sketch_build) : json(nullptr)},
+            {"sketch", s_.sketch_build ? [&] {
+                 // Built (or found) before the suite ran: whether this worker found it cached says nothing.
+                 json j = sketch_build_json(*s_.sketch_build);
+                 j.erase("from_cache");
+                 return j;
+             }()
+                                       : json(nullptr)},
             {"platformio", s_.firmware_source},
             {"seed", s_.seed},
             {"baud", s_.baud},

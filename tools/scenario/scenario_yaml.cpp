@@ -649,10 +649,11 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
         // read above
     } else if (root["firmware"] && root["firmware"].IsMap()) {
         const Ctx c = top.at(root["firmware"], "firmware");
-        c.keys({"elf", "sketch", "platformio"});
+        c.keys({"elf", "sketch", "platformio", "env"});
         if (c.has("elf") == c.has("sketch")) {
             c.fail("give one of elf (a built ELF), sketch (a .ino to build) or platformio (a project folder)");
         }
+        if (c.has("env")) c.child("env").fail("only with platformio: DIR (the environment of a PlatformIO project)");
         if (c.has("elf")) {
             s.firmware = existing_file(c.child("elf"));
         } else {
