@@ -263,10 +263,12 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     if (o.board_file) {
         c.board = hil::load_board_file(*o.board_file);
         if (o.board_name && *o.board_name != c.board.model) {
-            throw std::invalid_argument(fmt::format("--board-name {}: the board file {} is for the {} (board: {})",
-                                                    hil::board_description(*o.board_name).key, c.board.source,
-                                                    hil::board_description(c.board.model).label,
-                                                    hil::board_description(c.board.model).key));
+            const std::string origin = o.board_name_origin.empty()
+                                           ? fmt::format("--board-name {}", hil::board_description(*o.board_name).key)
+                                           : o.board_name_origin;
+            throw std::invalid_argument(fmt::format("{}: the board file {} is for the {} (board: {}){}", origin,
+                                                    c.board.source, hil::board_description(c.board.model).label,
+                                                    hil::board_description(c.board.model).key, o.board_name_advice));
         }
     } else if (o.board_name) {
         c.board.model = *o.board_name;  // the thesis robot's wiring on that board

@@ -94,6 +94,11 @@ struct FirmwareRunOptions {
     /// --board-name: the board (MCU, clock) of a run without a board file,
     /// wired as the thesis robot; with a board file, its `board:` must agree.
     std::optional<hil::BoardModel> board_name;
+    /// What chose board_name, for a board file at odds with it (default
+    /// "--board-name KEY"; a PlatformIO environment names itself), and what
+    /// to do about it, appended to that message.
+    std::string board_name_origin;
+    std::string board_name_advice;
     /// --serial-port: the USART the host's adapter is on, by Arduino name
     /// ("Serial", "Serial1".."Serial3" on a Mega); the board must have it.
     std::string serial_port = "Serial";

@@ -77,18 +77,12 @@ void resolve_firmware(const RunCli& cli, FirmwareRunOptions& o) {
                                                     "environment for your board (--env)",
                                                     cli.board_name, env_board));
         }
-        if (!cli.board_file.empty()) {
-            const hil::BoardModel wired = hil::load_board_file(cli.board_file).model;
-            if (wired != p.board) {
-                throw std::invalid_argument(fmt::format(
-                    "--board {}: its board is {} (board: {}), but {}: put board: {} in the board file, or use the "
-                    "environment for your board (--env)",
-                    cli.board_file, hil::board_description(wired).label, hil::board_description(wired).key, env_board,
-                    hil::board_description(p.board).key));
-            }
-        }
         o.firmware = p.elf;
-        o.board_name = p.board;
+        o.board_name = p.board;  // a board file must agree (run_firmware checks it), said as the project's
+        o.board_name_origin = env_board;
+        o.board_name_advice = fmt::format("; put board: {} in the board file, or use the environment for your board "
+                                          "(--env)",
+                                          hil::board_description(p.board).key);
         o.firmware_source = platformio_json(p);
     } else if (!cli.sketch.empty()) {
         // A sketch folder x/ is x/x.ino (as arduino-cli takes it).
