@@ -2,6 +2,7 @@
 
 #include <ini.h>
 
+#include "common/visible_files.hpp"
 #include "hil/elf_image.hpp"
 
 #include <fmt/format.h>
@@ -161,13 +162,7 @@ std::optional<std::pair<fs::path, fs::file_time_type>> newest_file(const std::ve
     for (const auto& root : roots) {
         if (fs::is_regular_file(root)) consider(root);
         if (!fs::is_directory(root)) continue;
-        for (auto it = fs::recursive_directory_iterator(root); it != fs::recursive_directory_iterator(); ++it) {
-            if (it->path().filename().string().rfind('.', 0) == 0) {
-                if (it->is_directory()) it.disable_recursion_pending();
-                continue;
-            }
-            if (it->is_regular_file()) consider(it->path());
-        }
+        for (const auto& f : visible_files(root)) consider(root / f);
     }
     return newest;
 }

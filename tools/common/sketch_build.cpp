@@ -16,6 +16,7 @@
 #include "common/atomic_file.hpp"
 #include "common/sha256.hpp"
 #include "common/spawn.hpp"
+#include "common/visible_files.hpp"
 
 namespace ddmr::tools {
 namespace fs = std::filesystem;
@@ -52,16 +53,7 @@ std::string read_text(const fs::path& path) {
 /// Every regular file under `dir` (dot-names skipped: .git, editor files),
 /// relative names and contents, in name order: the folder's identity.
 void hash_folder(Sha256& h, const fs::path& dir) {
-    std::vector<fs::path> files;
-    for (auto it = fs::recursive_directory_iterator(dir); it != fs::recursive_directory_iterator(); ++it) {
-        if (it->path().filename().string().rfind('.', 0) == 0) {
-            if (it->is_directory()) it.disable_recursion_pending();
-            continue;
-        }
-        if (it->is_regular_file()) files.push_back(it->path().lexically_relative(dir));
-    }
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) {
+    for (const auto& f : visible_files(dir)) {
         h.update(f.generic_string());
         h.update(std::string_view("\0", 1));
         h.update(std::to_string(fs::file_size(dir / f)));
