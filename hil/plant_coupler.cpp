@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "plant/drive_stepper.hpp"
+
 namespace ddmr::hil {
 
 CouplerConfig resolved(const CouplerConfig& config, uint32_t clock_hz) {
@@ -66,34 +68,44 @@ void PlantCoupler::step(Cycles boundary) {
     if (hook_) hook_(boundary);
 }
 
+namespace {
+
+/// The driver inputs' decoded waveforms, as the plant stepper reads them.
+class ReaderWaveforms final : public plant::DriveWaveforms {
+public:
+    explicit ReaderWaveforms(const MotorDriverReader& reader) : reader_(reader) {}
+    [[nodiscard]] plant::BridgeState state_at(std::size_t m, std::int64_t cycle) const override {
+        return reader_.state_at(m, static_cast<Cycles>(cycle));
+    }
+    [[nodiscard]] std::int64_t next_change_after(std::size_t m, std::int64_t cycle) const override {
+        const Cycles next = reader_.next_change_after(m, static_cast<Cycles>(cycle));
+        return next >= static_cast<Cycles>(kNever) ? kNever : static_cast<std::int64_t>(next);
+    }
+
+private:
+    const MotorDriverReader& reader_;
+};
+
+}  // namespace
+
 void PlantCoupler::advance(Cycles from, Cycles to, plant::RobotInput& input) {
-    Cycles t = from;
-    while (t < to) {
-        Cycles next = to;
-        if (config_.mode == plant::DriveMode::switched) {
-            // Split at every level change of a driver input, so each PWM
-            // edge falls on a plant step boundary at its exact cycle.
-            for (std::size_t m = 0; m < 2; ++m) {
-                input.bridge[m].state = reader_.state_at(m, t);
-                next = std::min(next, reader_.next_change_after(m, t));
+    const ReaderWaveforms waves(reader_);
+    const uint32_t clock_hz = core_.clock_hz();
+    const plant::DriveStepResult r = plant::step_across_edges(
+        robot_, input, waves, static_cast<std::int64_t>(from), static_cast<std::int64_t>(to), clock_hz, edges_,
+        [&](std::int64_t piece_start, const plant::EdgeBuffer& edges) {
+            const auto t = static_cast<Cycles>(piece_start);
+            for (const plant::EncoderEdge& e : edges) {
+                // Plant time is AVR time (both start at reset); never in the past.
+                const auto c = static_cast<Cycles>(std::llround(e.t_s * static_cast<double>(clock_hz)));
+                injector_.schedule(e.channel, e.signal, std::max(c, t), e.level);
             }
-        }
-        robot_.set_input(input);
-        edges_.clear();
-        const plant::StepResult r = robot_.step(cycles_to_s(next - t, core_.clock_hz()), edges_);
-        ++plant_steps_;
-        for (const plant::EncoderEdge& e : edges_) {
-            // Plant time is AVR time (both start at reset); never in the past.
-            const auto c = static_cast<Cycles>(std::llround(e.t_s * static_cast<double>(core_.clock_hz())));
-            injector_.schedule(e.channel, e.signal, std::max(c, t), e.level);
-        }
-        if (r.status != plant::StepStatus::ok) {
-            status_ = r.status;
-            failed_at_s_ = r.t_s;
-            core_.request_stop();
-            return;
-        }
-        t = next;
+        });
+    plant_steps_ += r.pieces;
+    if (r.status != plant::StepStatus::ok) {
+        status_ = r.status;
+        failed_at_s_ = r.t_s;
+        core_.request_stop();
     }
 }
 

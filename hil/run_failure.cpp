@@ -7,7 +7,7 @@
 
 namespace ddmr::hil {
 
-RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard& stack_guard) {
+RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard* stack_guard) {
     AvrCore& core = rig.core();
     RunEnd end;
     end.stop = stop;
@@ -15,7 +15,7 @@ RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard& stack_guar
     end.clock_hz = core.clock_hz();
     end.pc = core.pc();
     end.simavr_error = core.log().first_error();
-    end.stack_overflow = stack_guard.overflow();
+    if (stack_guard != nullptr) end.stack_overflow = stack_guard->overflow();
     end.plant_status = rig.coupler().status();
     end.plant_failed_at_s = rig.coupler().failed_at_s();
     end.plant_pose = rig.robot().pose();

@@ -47,8 +47,8 @@ struct RunEnd {
 };
 
 /// Reads the RunEnd of `rig` (its core, coupler and robot) and `stack_guard`
-/// after run_until returned `stop`.
-RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard& stack_guard);
+/// (nullptr: none watches the stack) after run_until returned `stop`.
+RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard* stack_guard);
 
 /// How the line is worded. kStandalone (`ddmr-hil run`, README's exit-reason
 /// table): names the firmware and gives the simulated time. kInStep (a

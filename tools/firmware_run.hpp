@@ -55,6 +55,7 @@
 #include "hil/encoder_injector.hpp"
 #include "hil/firmware_report.hpp"
 #include "hil/loop_profiler.hpp"
+#include "hil/session.hpp"
 #include "hil/uart_link.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/bridge_driver.hpp"
@@ -128,6 +129,9 @@ struct FirmwareRunOptions {
     /// instead of the contract's `complete`; every byte the host receives is
     /// also written to stdout as it arrives (`pio test`'s test_testing_command).
     bool unity = false;
+    /// The optional instruments (ISR monitor, stack guard, race detector);
+    /// each left off makes the run faster (`make bench`: hil_bench).
+    hil::SessionInstruments instruments{};
     /// Where the ELF came from (a sketch build, a PlatformIO project):
     /// summary.json's `firmware_source`, null when the ELF was given.
     nlohmann::json firmware_source = nullptr;

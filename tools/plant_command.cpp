@@ -27,6 +27,7 @@
 #include "common/atomic_file.hpp"
 #include "common/truth_csv.hpp"
 #include "exit_codes.hpp"
+#include "plant/drive_stepper.hpp"
 #include "plant/params_yaml.hpp"
 #include "plant/pwm_waveform.hpp"
 #include "plant/robot.hpp"
@@ -73,13 +74,14 @@ int run_plant(const PlantOptions& o) {
 
     // --- run -----------------------------------------------------------------
     pl::Robot robot(params);
-    std::array<pl::PhaseCorrectPwm, pl::kMotorCount> pwm{};
+    pl::PwmDrive drive;
     pl::RobotInput in;
     in.mode = switched ? pl::DriveMode::switched : pl::DriveMode::averaged;
     for (std::size_t m = 0; m < pl::kMotorCount; ++m) {
-        pwm[m].ocr = pl::PhaseCorrectPwm::ocr_for_duty(o.duty[m]);
+        drive.pwm[m].ocr = pl::PhaseCorrectPwm::ocr_for_duty(o.duty[m]);
+        drive.forward[m] = o.dir[m] == "F";
         in.bridge[m].duty = o.duty[m];
-        in.bridge[m].forward = o.dir[m] == "F";
+        in.bridge[m].forward = drive.forward[m];
     }
     const std::int64_t end = pl::s_to_cycles(o.seconds);
     const std::int64_t half = end / 2;  // mean speeds over the second half
@@ -92,15 +94,9 @@ int run_plant(const PlantOptions& o) {
     while (c < end && status == pl::StepStatus::ok) {
         std::int64_t next = std::min(end, (c / kSampleCycles + 1) * kSampleCycles);
         if (c < half) next = std::min(next, half);
-        for (std::size_t m = 0; m < pl::kMotorCount; ++m) {
-            in.bridge[m].state = !pwm[m].level_at(c)    ? pl::BridgeState::coast
-                                 : in.bridge[m].forward ? pl::BridgeState::forward
-                                                        : pl::BridgeState::reverse;
-            if (switched) next = std::min(next, pwm[m].next_edge_after(c));
-        }
-        robot.set_input(in);
-        edges.clear();
-        status = robot.step(pl::cycles_to_s(next - c), edges).status;
+        status = pl::step_across_edges(robot, in, drive, c, next, static_cast<std::uint32_t>(pl::kCpuHz), edges)
+                     .status;
+        if (status != pl::StepStatus::ok) break;  // the plant stopped inside this interval
         c = next;
         if (c == half) {
             for (std::size_t m = 0; m < pl::kMotorCount; ++m) angle_at_half[m] = robot.motor_angle_rad(m);
@@ -120,8 +116,8 @@ int run_plant(const PlantOptions& o) {
     j["status"] = pl::to_string(status);
     j["mode"] = o.pwm;
     j["duty"] = o.duty;
-    j["duty_effective"] = switched ? std::vector<double>{pwm[0].duty(), pwm[1].duty()} : o.duty;
-    if (switched) j["ocr"] = {pwm[0].ocr, pwm[1].ocr};
+    j["duty_effective"] = switched ? std::vector<double>{drive.pwm[0].duty(), drive.pwm[1].duty()} : o.duty;
+    if (switched) j["ocr"] = {drive.pwm[0].ocr, drive.pwm[1].ocr};
     j["dir"] = o.dir;
     j["seconds"] = o.seconds;
     j["plant_file"] = o.plant_file.empty() ? "(embedded defaults)" : o.plant_file;

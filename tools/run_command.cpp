@@ -34,6 +34,9 @@ struct RunCli {
     std::string vcd;
     bool quiet = false;
     bool progress = false;
+    bool no_isr_monitor = false;
+    bool no_stack_guard = false;
+    bool no_race_detector = false;
     int gdb_port = 0;  ///< 0: no --gdb
     std::vector<std::string> sends;  ///< --send TEXT@TIME
     std::string contract;            ///< --contract FILE
@@ -247,6 +250,12 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                         "With --profile: the function each loop iteration calls once (its call ends the compute "
                         "part); default delay for the reference sketch, loop() for any other firmware")
             ->capture_default_str();
+    sub->add_flag("--no-isr-monitor", cli->no_isr_monitor,
+                  "Leave the ISR monitor off (no isr.json, isr.md; summary.json's isr is null): faster");
+    sub->add_flag("--no-stack-guard", cli->no_stack_guard,
+                  "Leave the stack guard off (a stack grown into .bss no longer ends the run): faster");
+    sub->add_flag("--no-race-detector", cli->no_race_detector,
+                  "Leave the race detector off (no torn or stale accesses in isr.json, isr.md): faster");
     sub->add_option("--top", cli->options.profile_top,
                     "With --profile: print the N functions and source lines with the most self cycles "
                     "(profile.json and profile.txt list all)")
@@ -255,6 +264,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
 
     return Subcommand{sub, [cli, profile_always]() {
         FirmwareRunOptions o = cli->options;
+        o.instruments = {!cli->no_isr_monitor, !cli->no_stack_guard, !cli->no_race_detector};
         resolve_firmware(*cli, o);
         o.out_dir = cli->out_dir.empty()
                         ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)

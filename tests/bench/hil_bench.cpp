@@ -12,6 +12,11 @@
 //                           artifact written; profiling, VCD and gdb off. Its
 //                           ratio to FullHilCase1 is what having those
 //                           features costs when they are off (issue 6)
+//   RunCase1NoInstruments : `run` with the ISR monitor, stack guard and race
+//                           detector off (--no-isr-monitor ...): its ratio to
+//                           FullHilCase1 is the engine's own cost (>= 0.95)
+//   RunCase1<X>Only       : one of the three on: X's cost is its ratio to
+//                           RunCase1NoInstruments
 //   RunCase1Profile       : the same with --profile (loop profiler and flat
 //                           function profile: single-stepping)
 //   RunCase1Vcd           : the same with --vcd
@@ -141,7 +146,7 @@ struct ScratchDir {
     }
 };
 
-void run_case1(benchmark::State& state, bool profile, bool vcd) {
+void run_case1(benchmark::State& state, bool profile, bool vcd, hil::SessionInstruments instruments = {}) {
     Cycles cycles = 0;
     for (auto _ : state) {
         ScratchDir dir;
@@ -150,6 +155,7 @@ void run_case1(benchmark::State& state, bool profile, bool vcd) {
         o.contract = DDMR_DEFAULT_CONTRACT;  // as `ddmr-hil run` does for the reference ELF
         o.out_dir = dir.path / "run";
         o.profile = profile;
+        o.instruments = instruments;
         if (vcd) o.vcd = dir.path / "run.vcd";
         const tools::FirmwareRunResult r = tools::run_firmware(o);
         if (r.exit != tools::RunExit::kReportComplete) state.SkipWithError(("case 1 did not complete: " + r.message).c_str());
@@ -161,6 +167,11 @@ void run_case1(benchmark::State& state, bool profile, bool vcd) {
 void BM_RunCase1(benchmark::State& state) { run_case1(state, false, false); }
 void BM_RunCase1Profile(benchmark::State& state) { run_case1(state, true, false); }
 void BM_RunCase1Vcd(benchmark::State& state) { run_case1(state, false, true); }
+// Each optional instrument on its own, and none (issue 32: each one's cost).
+void BM_RunCase1NoInstruments(benchmark::State& state) { run_case1(state, false, false, {false, false, false}); }
+void BM_RunCase1IsrMonitorOnly(benchmark::State& state) { run_case1(state, false, false, {true, false, false}); }
+void BM_RunCase1StackGuardOnly(benchmark::State& state) { run_case1(state, false, false, {false, true, false}); }
+void BM_RunCase1RaceDetectorOnly(benchmark::State& state) { run_case1(state, false, false, {false, false, true}); }
 
 void BM_ShippedScenarioSuite(benchmark::State& state) {
     std::string files;
@@ -258,6 +269,10 @@ void BM_LongRun(benchmark::State& state) {
 BENCHMARK(BM_BareSimavrDefaultLoop)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_FullHilCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_RunCase1)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1NoInstruments)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1IsrMonitorOnly)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1StackGuardOnly)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
+BENCHMARK(BM_RunCase1RaceDetectorOnly)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_RunCase1Profile)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_RunCase1Vcd)->Iterations(1)->Repetitions(3)->Unit(benchmark::kSecond);
 BENCHMARK(BM_ShippedScenarioSuite)->Iterations(1)->Repetitions(1)->Unit(benchmark::kSecond)->UseRealTime();

@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "plant/drive_stepper.hpp"
 #include "plant/pwm_waveform.hpp"
 #include "tools/hostsim/drive_command.hpp"
 #include "tools/hostsim/firmware_constants.hpp"
@@ -214,32 +215,21 @@ class Simulation {
         }
         plant::RobotInput in;
         in.mode = switched_ ? plant::DriveMode::switched : plant::DriveMode::averaged;
-        std::array<plant::PhaseCorrectPwm, plant::kMotorCount> pwm{};
+        plant::PwmDrive drive;
         for (std::size_t m = 0; m < plant::kMotorCount; ++m) {
-            pwm[m].ocr = drive_[m].ocr;  // both counters at BOTTOM at cycle 0
+            drive.pwm[m].ocr = drive_[m].ocr;  // both counters at BOTTOM at cycle 0
+            drive.forward[m] = drive_[m].forward;
             in.bridge[m].duty = drive_[m].duty;
             in.bridge[m].forward = drive_[m].forward;
             in.bridge[m].state = bridge_state(drive_[m].duty > 0.0, drive_[m].forward);
         }
-        Cycles c = from;
-        while (c < to) {
-            Cycles next = to;
-            if (switched_) {
-                for (std::size_t m = 0; m < plant::kMotorCount; ++m) {
-                    in.bridge[m].state = bridge_state(pwm[m].level_at(c), drive_[m].forward);
-                    next = std::min(next, pwm[m].next_edge_after(c));
-                }
-            }
-            robot_->set_input(in);
-            edges_.clear();
-            const plant::StepResult r = robot_->step(plant::cycles_to_s(next - c), edges_);
-            ++result_.plant_steps;
-            if (r.status != plant::StepStatus::ok) {
-                result_.status = r.status;
-                result_.status_at_s = r.t_s;
-                return false;
-            }
-            c = next;
+        const plant::DriveStepResult r = plant::step_across_edges(*robot_, in, drive, from, to,
+                                                                  static_cast<std::uint32_t>(plant::kCpuHz), edges_);
+        result_.plant_steps += r.pieces;
+        if (r.status != plant::StepStatus::ok) {
+            result_.status = r.status;
+            result_.status_at_s = r.t_s;
+            return false;
         }
         return true;
     }
