@@ -12,6 +12,7 @@
 #include <cstring>
 #include <memory>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -26,15 +27,39 @@ std::string demangle(const std::string& name) {
         abi::__cxa_demangle(name.c_str(), nullptr, nullptr, &status), &std::free);
     return status == 0 && out ? std::string(out.get()) : name;
 }
+
+std::string without_parameters(const std::string& demangled) {
+    std::string_view d = demangled;
+    const auto strip = [&d](std::string_view suffix) {
+        const bool has = d.size() > suffix.size() && d.substr(d.size() - suffix.size()) == suffix;
+        if (has) d.remove_suffix(suffix.size());
+        return has;
+    };
+    // "f(int) [clone .constprop.0] [clone .isra.0]"
+    while (!d.empty() && d.back() == ']') {
+        const auto clone = d.rfind(" [clone ");
+        if (clone == std::string_view::npos) break;
+        d = d.substr(0, clone);
+    }
+    while (strip(" const") || strip(" volatile") || strip(" &&") || strip(" &")) {
+    }
+    if (d.empty() || d.back() != ')') return std::string(d);
+    // The parameter list is the last balanced (...): "(anonymous namespace)::f(int)",
+    // "C::operator()(int)" and "f(void (*)(int))" keep what precedes it.
+    int depth = 0;
+    for (std::size_t i = d.size(); i-- > 0;) {
+        if (d[i] == ')') ++depth;
+        if (d[i] == '(' && --depth == 0) return std::string(d.substr(0, i));
+    }
+    return std::string(d);
+}
+
 namespace {
 
 /// avr-gcc places data-space objects at 0x800000 in the ELF address space.
 constexpr uint32_t kAvrDataOffset = 0x800000;
 /// EF_AVR_MACH: the architecture field of an AVR ELF's e_flags.
 constexpr uint32_t kEfAvrMachMask = 0x7F;
-/// Bytes of .text kept for the vector check: the largest supported table
-/// (the ATmega2560's 57 JMPs) and one slot more, with room to spare.
-constexpr std::size_t kVectorTableBytes = std::size_t{64} * 4;
 
 /// " (e.g. the ATmega2560)": a well-known part of an avr-gcc architecture, for messages.
 std::string arch_example(uint32_t arch) {
@@ -164,8 +189,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
             Elf_Data* d = elf_getdata(scn, nullptr);
             if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
             const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
-            const std::size_t n = std::min<std::size_t>(d->d_size, kVectorTableBytes);
-            img.vector_table_.assign(bytes, bytes + n);
+            img.text_.assign(bytes, bytes + d->d_size);
         } else if (sname == ".data") {
             img.memory_.data_bytes = static_cast<uint32_t>(shdr.sh_size);
         } else if (sname == ".bss") {
@@ -260,13 +284,13 @@ void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) 
     const auto count = static_cast<std::size_t>(mcu.vector_count());
     const auto slot = static_cast<std::size_t>(mcu.vector_bytes);
     const std::size_t table = count * slot;
-    if (vector_table_.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
+    if (text_.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
     for (std::size_t v = 0; v < count; ++v) {
-        if (!is_jmp(&vector_table_[v * slot])) {
+        if (!is_jmp(&text_[v * slot])) {
             fail(path_, fmt::format("interrupt vector {} is not a JMP or RJMP: not an {} vector table", v, chip));
         }
     }
-    if (vector_table_.size() >= table + slot && is_vector_slot(&vector_table_[table])) {
+    if (text_.size() >= table + slot && is_vector_slot(&text_[table])) {
         fail(path_, fmt::format("has more than {} interrupt vectors: built for another avr{} MCU, not the {}", count,
                                 mcu.elf_arch, on));
     }
@@ -277,6 +301,41 @@ std::optional<ElfSymbol> ElfImage::find(const std::string& name) const {
         if (s.name == name) return s;
     }
     return std::nullopt;
+}
+
+std::vector<ElfSymbol> ElfImage::find_functions(const std::string& name) const {
+    std::vector<ElfSymbol> out;
+    const auto add = [&out](const ElfSymbol& s) {
+        if (std::none_of(out.begin(), out.end(), [&s](const ElfSymbol& o) { return o.address == s.address; })) {
+            out.push_back(s);
+        }
+    };
+    const auto has_code = [](const ElfSymbol& s) { return s.is_function && s.size > 0; };
+    for (const auto& s : symbols_) {
+        if (has_code(s) && s.name == name) add(s);
+    }
+    if (!out.empty()) return out;
+    for (const auto& s : symbols_) {
+        if (!has_code(s) || s.name.rfind("_Z", 0) != 0) continue;
+        const std::string d = demangle(s.name);
+        if (d == name || without_parameters(d) == name) add(s);
+    }
+    return out;
+}
+
+std::string ElfImage::function_name(const ElfSymbol& function) const {
+    const std::string d = demangle(function.name);
+    for (const std::string& name : {without_parameters(d), d}) {
+        const auto found = find_functions(name);
+        if (found.size() == 1 && found.front().address == function.address) return name;
+    }
+    return function.name;
+}
+
+std::optional<uint16_t> ElfImage::text_word(uint32_t flash_address) const {
+    if (flash_address < text_address_ || flash_address - text_address_ + 1 >= text_.size()) return std::nullopt;
+    const std::size_t i = flash_address - text_address_;
+    return static_cast<uint16_t>(text_[i] | (text_[i + 1] << 8));
 }
 
 ElfSymbol ElfImage::require(const std::string& name) const {

@@ -18,10 +18,15 @@ namespace ddmr::hil {
 /// How far a symbol is visible (the ELF STB_ binding).
 enum class ElfBinding : uint8_t { kLocal, kGlobal, kWeak };
 
-/// One entry of the ELF symbol table.
 /// The C++ name behind an Itanium-mangled symbol (avr-g++ uses that ABI), or
 /// the symbol itself (C names, libgcc's assembly).
 std::string demangle(const std::string& name);
+/// A demangled function name without its parameter list, cv and ref
+/// qualifiers and GCC's " [clone .constprop.0]" suffixes:
+/// "ns::C::step(int) const" -> "ns::C::step"; a name without them as is.
+std::string without_parameters(const std::string& demangled);
+
+/// One entry of the ELF symbol table.
 
 struct ElfSymbol {
     std::string name;       ///< raw (mangled) name
@@ -70,6 +75,18 @@ public:
 
     /// The symbol with this exact (mangled) name, if any.
     std::optional<ElfSymbol> find(const std::string& name) const;
+    /// The functions with code (STT_FUNC, size > 0) that `name` names: the
+    /// symbol of that exact name, else by C++ name, whole
+    /// ("MyClass::step(int)") or without its parameter list, qualifiers and
+    /// clone suffix ("MyClass::step", "serialEventRun"). One per address (a
+    /// constructor's aliases are one function); more than one: overloads.
+    std::vector<ElfSymbol> find_functions(const std::string& name) const;
+    /// The shortest name find_functions() finds `function` alone by: its C++
+    /// name without parameters, else whole, else the symbol.
+    std::string function_name(const ElfSymbol& function) const;
+    /// The 16-bit word of .text at a flash byte address (little-endian, as
+    /// fetched), or nullopt outside [text_begin, text_end - 1).
+    std::optional<uint16_t> text_word(uint32_t flash_address) const;
     /// Like find(), but throws std::runtime_error naming the symbol and the file.
     ElfSymbol require(const std::string& name) const;
     /// The function whose [address, address + size) contains the flash byte address.
@@ -83,7 +100,7 @@ private:
     uint32_t text_address_ = 0;
     std::vector<ElfSymbol> symbols_;
     std::optional<std::string> mmcu_;
-    std::vector<uint8_t> vector_table_;  ///< first bytes of .text
+    std::vector<uint8_t> text_;  ///< the bytes of .text (its first: the vector table)
 };
 
 }  // namespace ddmr::hil

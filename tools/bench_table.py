@@ -16,6 +16,21 @@ import sys
 from pathlib import Path
 
 
+# Google Benchmark's own keys of a run; every other number in it is one of
+# our state.counters (peak_rss_MiB, rms_mm, truth_in_interval, ...), kept
+# whatever its name: a counter the table does not know is still in
+# results.json, and a goal reads it by name.
+BENCHMARK_FIELDS = {
+    "name", "family_index", "per_family_instance_index", "run_name", "run_type", "repetitions",
+    "repetition_index", "threads", "iterations", "real_time", "cpu_time", "time_unit", "aggregate_name",
+    "aggregate_unit", "label", "error_occurred", "error_message", "skipped", "skip_message",
+    "Mcycles_per_s", "runs_per_minute",  # the figure of the row (its "values")
+}
+# Counters where more is better: over repetitions the table keeps the least
+# (the worst), as it keeps the most of the others (RSS, error, evaluations).
+LARGER_IS_BETTER = {"truth_in_interval"}
+
+
 def load(path):
     """{run_name: {"values": [...], "unit": str, "counters": {...}}} from one JSON file."""
     if not path.exists():
@@ -37,9 +52,11 @@ def load(path):
         entry["values"].append(value)
         scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b["time_unit"]]
         entry["times"].append(b["real_time"] * scale)
-        for k in ("peak_rss_MiB", "sim_minutes", "worst_rel_error", "rms_mm", "evaluations"):
-            if k in b:
-                entry["counters"][k] = max(entry["counters"].get(k, 0.0), b[k])
+        for k, v in b.items():
+            if k in BENCHMARK_FIELDS or isinstance(v, bool) or not isinstance(v, (int, float)):
+                continue
+            worst = min if k in LARGER_IS_BETTER else max
+            entry["counters"][k] = worst(entry["counters"][k], v) if k in entry["counters"] else v
     return out
 
 

@@ -296,6 +296,12 @@ int run_calibrate(const CalibrateCli& o) {
         // Read and checked now: a bad ELF is found before the fit, not after it.
         hil::ElfImage::read(o.firmware).require_mcu(hil::atmega328p_mcu());
     }
+    // The logs' warnings (a dump without its unwritten last line), -q or not,
+    // once every input is good: a refusal stays one line. calibration.json
+    // and report.md list them with the fit's.
+    for (const cal::RobotLog& l : all) {
+        for (const std::string& w : l.warnings) std::fprintf(stderr, "ddmr-hil calibrate: warning: %s\n", w.c_str());
+    }
 
     const cal::CalibrationResult r = cal::calibrate(setup);
     prepare_output_dir(out);

@@ -12,29 +12,11 @@
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
 #include "hil/plant_coupler.hpp"
+#include "loop_mark.hpp"
 #include "plant/params_yaml.hpp"
 
 namespace ddmr::tools {
 namespace {
-
-/// The loop mark of a firmware without the reference protocol: Arduino's
-/// loop() (one call per iteration), or delay() where LTO inlined loop() into main.
-std::string default_loop_mark(const hil::ElfImage& elf, const std::string& firmware) {
-    const auto loop = elf.find("loop");
-    if (loop && loop->is_function && loop->size > 0) return "loop";
-    const auto delay = elf.find("delay");
-    if (delay && delay->is_function && delay->size > 0) {
-        std::fprintf(stderr,
-                     "ddmr-hil: loop() is not a function of %s (LTO inlined it into main): the loop mark falls "
-                     "back to delay(), one call per iteration (--loop-mark names another)\n",
-                     firmware.c_str());
-        return "delay";
-    }
-    throw std::runtime_error(fmt::format("firmware {}: neither loop() nor delay() is a function in the ELF (LTO "
-                                         "inlined them): pass --loop-mark FUNCTION, a function each loop "
-                                         "iteration calls once",
-                                         firmware));
-}
 
 hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     hil::RigConfig c;
@@ -197,13 +179,12 @@ RunPlan plan_firmware_run(const FirmwareRunOptions& options) {
     const std::string& loop_mark_name = plan.loop_mark_name =
         options.loop_mark_given || !options.profile ? options.loop_mark
         : contract && contract->loop.function       ? *contract->loop.function
-                                                    : default_loop_mark(elf, options.firmware.string());
+                                                    : default_loop_mark(elf);
     if (options.profile) {
-        loop_mark = elf.require(loop_mark_name);
-        if (!loop_mark->is_function || loop_mark->size == 0) {
-            throw std::runtime_error(fmt::format("firmware {}: --loop-mark '{}' is not a function",
-                                                 options.firmware.string(), loop_mark_name));
-        }
+        loop_mark = resolve_loop_mark(elf, loop_mark_name,
+                                      options.loop_mark_given || !contract || !contract->loop.function
+                                          ? "--loop-mark"
+                                          : "the contract's loop.function");
     }
     plan.sends = options.sends;
     std::stable_sort(plan.sends.begin(), plan.sends.end(), [](const auto& a, const auto& b) { return a.at_s < b.at_s; });

@@ -248,7 +248,8 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
     cli->loop_mark_option =
         sub->add_option("--loop-mark", cli->options.loop_mark,
                         "With --profile: the function each loop iteration calls once (its call ends the compute "
-                        "part); default delay for the reference sketch, loop() for any other firmware")
+                        "part), by its symbol or C++ name (serialEventRun, MyClass::step); default delay for the "
+                        "reference sketch, loop() for any other firmware")
             ->capture_default_str();
     sub->add_flag("--no-isr-monitor", cli->no_isr_monitor,
                   "Leave the ISR monitor off (no isr.json, isr.md; summary.json's isr is null): faster");

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <random>
 
@@ -125,6 +126,57 @@ TEST(ElfImage, RequireNamesTheMissingSymbol) {
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("no_such_function"), std::string::npos);
     }
+}
+
+// A C++ name is its demangled form without the parameter list (what a user
+// types: `MyClass::step`, `serialEventRun`), or whole where overloads share it.
+TEST(ElfImage, WithoutParametersKeepsTheQualifiedName) {
+    EXPECT_EQ(hil::without_parameters("serialEventRun()"), "serialEventRun");
+    EXPECT_EQ(hil::without_parameters("ns::MyClass::step(int) const"), "ns::MyClass::step");
+    EXPECT_EQ(hil::without_parameters("(anonymous namespace)::f(int)"), "(anonymous namespace)::f");
+    EXPECT_EQ(hil::without_parameters("C::operator()(int) &&"), "C::operator()");
+    EXPECT_EQ(hil::without_parameters("f(void (*)(int))"), "f");
+    EXPECT_EQ(hil::without_parameters("Print::println(double, int) [clone .constprop.10]"), "Print::println");
+    EXPECT_EQ(hil::without_parameters("delay"), "delay");
+    EXPECT_EQ(hil::without_parameters(""), "");
+}
+
+// tests/firmware/cpp_fixture.cpp: MyClass::step(), tick(int) and tick(long),
+// serialEventRun() mangled as the Arduino core's.
+TEST(ElfImage, FindsFunctionsByTheirCxxNames) {
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "cpp_fixture.elf");
+    const auto names = [&](const std::string& name) {
+        std::vector<std::string> out;
+        for (const auto& f : elf.find_functions(name)) out.push_back(f.name);
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    using V = std::vector<std::string>;
+    EXPECT_EQ(names("serialEventRun"), V{"_Z14serialEventRunv"});
+    EXPECT_EQ(names("_Z14serialEventRunv"), V{"_Z14serialEventRunv"});
+    EXPECT_EQ(names("serialEventRun()"), V{"_Z14serialEventRunv"});
+    EXPECT_EQ(names("MyClass::step"), V{"_ZN7MyClass4stepEv"});
+    EXPECT_EQ(names("tick"), (V{"_Z4ticki", "_Z4tickl"}));  // overloads: both
+    EXPECT_EQ(names("tick(long)"), V{"_Z4tickl"});
+    EXPECT_EQ(names("main"), V{"main"});
+    EXPECT_EQ(names("step"), V{});  // a member needs its class
+    EXPECT_EQ(names("(anonymous namespace)::sink"), V{});  // a variable is no function
+    // The shortest name that finds a function alone.
+    const auto name_of = [&](const std::string& symbol) { return elf.function_name(*elf.find(symbol)); };
+    EXPECT_EQ(name_of("_Z14serialEventRunv"), "serialEventRun");
+    EXPECT_EQ(name_of("_ZN7MyClass4stepEv"), "MyClass::step");
+    EXPECT_EQ(name_of("_Z4tickl"), "tick(long)");
+    EXPECT_EQ(name_of("main"), "main");
+}
+
+TEST(ElfImage, TextWordsAreTheProgramsBytes) {
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "cpp_fixture.elf");
+    // Vector 0 is JMP __ctors_end: 0x940C and its word address.
+    EXPECT_EQ(elf.text_word(0), 0x940C);
+    EXPECT_EQ(elf.text_word(2), elf.require("__ctors_end").address / 2);
+    EXPECT_FALSE(elf.text_word(elf.text_end()).has_value());
+    EXPECT_FALSE(elf.text_word(elf.text_end() - 1).has_value());  // half a word
+    EXPECT_TRUE(elf.text_word(elf.text_end() - 2).has_value());
 }
 
 }  // namespace

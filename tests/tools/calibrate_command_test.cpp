@@ -105,12 +105,51 @@ std::string cut_dump(std::size_t samples) {
     return out;
 }
 
+/// The robot's dump without its last `lines` lines.
+std::string without_last_lines(std::size_t lines) {
+    std::string text = read_text(robot_log());
+    for (std::size_t k = 0; k < lines; ++k) text.resize(text.rfind('\n', text.size() - 2) + 1);
+    return text;
+}
+
+// Issue 32: a dump pasted from a serial monitor often lacks its last line
+// (the byte at addr, which the firmware never wrote). The HIL's case-1 dump
+// (addr 240: 121 lines) without it has 120: read as the same 120 samples,
+// the same fit, and said in one line on stderr and in calibration.json.
+TEST(CalibrateCommand, ADumpWithoutItsUnwrittenLastLineIsReadAndSaidSo) {
+    TempDir dir;
+    const fs::path cut = dir / "pasted.txt";
+    std::ofstream(cut) << without_last_lines(1);
+    const std::string args = kTiny + " --split 0.5 --no-hil --out ";
+    const ProcessResult whole = run_command(cli() + " calibrate " + sh_quote(robot_log().string()) + args +
+                                            sh_quote((dir / "whole").string()));
+    ASSERT_EQ(whole.exit_code, 0) << whole.err;
+    const ProcessResult r = run_command(cli() + " calibrate " + sh_quote(cut.string()) + args +
+                                        sh_quote((dir / "pasted").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string warning = cut.string() + ": addr 240 promises 121 dump lines, the file has 120: read as the dump "
+                                "without its last line (the byte at addr, which the run never wrote), 120 logged samples";
+    EXPECT_EQ(r.err, "ddmr-hil calibrate: warning: " + warning + "\n");  // -q: nothing else
+    EXPECT_TRUE(whole.err.empty()) << whole.err;
+    const auto j = nlohmann::json::parse(read_text(dir / "pasted" / "calibration.json"));
+    const auto w = nlohmann::json::parse(read_text(dir / "whole" / "calibration.json"));
+    ASSERT_TRUE(j["warnings"].is_array());
+    ASSERT_FALSE(j["warnings"].empty());
+    EXPECT_EQ(j["warnings"][0], warning);
+    EXPECT_EQ(j["warnings"].size(), w["warnings"].size() + 1);
+    EXPECT_EQ(j["train"]["samples"], 60);
+    EXPECT_EQ(j["holdout"]["samples"], 60);
+    EXPECT_EQ(j["params"], w["params"]);  // the same samples, the same fit
+    EXPECT_NE(read_text(dir / "pasted" / "report.md").find("- " + warning + "\n"), std::string::npos);
+}
+
 TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
     TempDir dir;
     const fs::path bad_log = dir / "bad.txt";
     {
         std::ofstream(bad_log) << "0.6m\n1 , 2\n";
         std::ofstream(dir / "cut.txt") << cut_dump(50);
+        std::ofstream(dir / "two_short.txt") << without_last_lines(2);
     }
     const std::string log = sh_quote(robot_log().string());
     const struct {
@@ -128,6 +167,7 @@ TEST(CalibrateCommand, RefusedInputIsOneLineExitTwoAndWritesNothing) {
         {log + " --hold-out " + log, "given twice (a held-out log must not be a fitted one)"},
         {log + " --case 0", "--case 0: the sketch has cases 1 and 2 only"},
         {sh_quote((dir / "cut.txt").string()), "cut.txt: 50 logged samples; case 1 logs 120 (one per 0.1 s)"},
+        {sh_quote((dir / "two_short.txt").string()), "two_short.txt: addr 240 promises 121 dump lines, the file has 119"},
         {log + " --firmware " + log, "uart.txt"},  // not an ELF: refused before the fit
         {log + " --seed -1", "--seed -1: must be >= 0"},
         {log + " --period-ms 2000", "--period-ms 2000: must be in [0.1, 1000] ms"},

@@ -529,6 +529,63 @@ TEST(RunCommand, AnyFirmwareIsProfiledFromResetWithTheGivenLoopMark) {
     EXPECT_GT(s["loop_profile"]["iterations"].get<uint64_t>(), 8000u);
 }
 
+// Issue 32: --loop-mark takes C++ names. The reference sketch (C++, built
+// by arduino-builder) has the core's serialEventRun() (_Z14serialEventRunv),
+// which main calls after each loop(). Its loop() polls Serial.available()
+// (a few cycles an iteration) until the case byte has come, then runs the
+// whole case in one call (8 s for case 2, then its report), then polls
+// again while the report drains from the UART's buffer.
+TEST(RunCommand, ProfileTakesTheDemangledNameOfACxxFunction) {
+    TempDir dir;
+    const auto out = dir / "prof";
+    const auto r = run_command(cli() + " profile --case 2 -q --top 1 --loop-mark serialEventRun --out " +
+                               sh_quote(out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json s = json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s["loop_profile"]["mark"], "serialEventRun");
+    const json& period = s["loop_profile"]["all"]["period"];
+    EXPECT_GT(s["loop_profile"]["iterations"].get<uint64_t>(), 100u);
+    EXPECT_EQ(period["count"], s["loop_profile"]["iterations"]);
+    // The longest iteration is the case's loop() call, the others are polls.
+    EXPECT_GT(period["max_us"].get<double>(), 8.0e6);
+    EXPECT_LT(period["max_us"].get<double>(), 8.5e6);
+    EXPECT_LT(period["p99_us"].get<double>(), 100.0);
+}
+
+// tests/firmware/cpp_fixture.cpp: no loop() or delay(); main's loop calls
+// MyClass::step(), tick(int), tick(long) and serialEventRun() once each
+// and twice() twice; 51 cycles an iteration.
+TEST(RunCommand, ProfileNamesAMarkThatWorksAndRefusesAnOverloadedName) {
+    TempDir dir;
+    const std::string fw = " --firmware " + sh_quote((test_firmware_dir() / "cpp_fixture.elf").string());
+    const std::string elf = (test_firmware_dir() / "cpp_fixture.elf").string();
+    auto r = run_command(cli() + " profile -q --seconds 0.001 --loop-mark MyClass::step" + fw + " --out " +
+                         sh_quote((dir / "step").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json s = json::parse(read_text(dir / "step" / "summary.json"));
+    EXPECT_EQ(s["loop_profile"]["mark"], "MyClass::step");
+    EXPECT_GT(s["loop_profile"]["iterations"].get<uint64_t>(), 100u);  // 16,000 cycles
+    const std::string try_these = "; try one that main's loop calls from one place: serialEventRun, MyClass::step, "
+                                  "tick(int), tick(long)\n";
+    const struct {
+        const char* args;
+        std::string message;
+    } refused[] = {
+        {"", ": neither loop() nor delay() is a function in the ELF (LTO inlined them): pass --loop-mark FUNCTION, "
+             "a function each loop iteration calls once" + try_these},
+        {" --loop-mark tick",
+         ": --loop-mark 'tick' names 2 functions: tick(int), tick(long); give one of these names\n"},
+        {" --loop-mark nosuch", ": --loop-mark 'nosuch' is no function in the ELF" + try_these},
+    };
+    for (const auto& c : refused) {
+        r = run_command(cli() + " profile -q --seconds 0.001" + c.args + fw + " --out " +
+                        sh_quote((dir / "no").string()));
+        EXPECT_EQ(r.exit_code, 2) << c.args;
+        EXPECT_EQ(r.err, "ddmr-hil profile: error: firmware " + elf + c.message) << c.args;
+        EXPECT_FALSE(fs::exists(dir / "no")) << c.args;
+    }
+}
+
 TEST(RunCommand, AnyFirmwareRefusesTheReferenceOptionsAndBadSends) {
     TempDir dir;
     const std::string fw = " --firmware " + sh_quote((test_firmware_dir() / "echo_fixture.elf").string());
@@ -543,7 +600,12 @@ TEST(RunCommand, AnyFirmwareRefusesTheReferenceOptionsAndBadSends) {
     EXPECT_NE(r.err.find("unknown escape"), std::string::npos) << r.err;
     r = run_command(cli() + " profile -q --seconds 0.1" + fw + " --out " + sh_quote((dir / "d").string()));
     EXPECT_EQ(r.exit_code, 2);
-    EXPECT_NE(r.err.find("neither loop() nor delay()"), std::string::npos) << r.err;
+    // echo_fixture's loop calls nothing: no mark to suggest, and it says why.
+    EXPECT_NE(r.err.find("neither loop() nor delay() is a function in the ELF (LTO inlined them): pass --loop-mark "
+                         "FUNCTION, a function each loop iteration calls once; main's loop calls no function that "
+                         "could be the mark"),
+              std::string::npos)
+        << r.err;
     for (const char* d : {"a", "b", "c", "d"}) EXPECT_FALSE(fs::exists(dir / d)) << d;
 }
 

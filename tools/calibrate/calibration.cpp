@@ -241,6 +241,10 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
     const double sigma = std::max(log_noise_m(), out.residual_rms_m);
     say(setup, "intervals at the fitted point");
     out.identifiability = analyse_identifiability(predict(keys), keys, out.fit.values, sigma, step, setup.model_tolerance_m);
+    // The logs' own warnings (a dump without its unwritten last line) first.
+    for (const std::vector<RobotLog>* logs : {&setup.logs, &setup.holdout_logs}) {
+        for (const RobotLog& l : *logs) out.warnings.insert(out.warnings.end(), l.warnings.begin(), l.warnings.end());
+    }
     if (out.least_squares.stop == "the evaluation budget is spent") {
         out.warnings.push_back(fmt::format("the least-squares stage spent its budget ({} evaluations) before it "
                                            "converged: give a larger --lm-evals",

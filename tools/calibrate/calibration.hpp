@@ -113,8 +113,9 @@ struct CalibrationResult {
     /// RMS of the fitted plant's least-squares residuals (distances to the
     /// cells' centres) [m]; the intervals assume max(this, the quantisation's sigma).
     double residual_rms_m = 0.0;
-    /// What a user should know about the fit, one sentence each (a spent
-    /// budget, a value at its search bound, a residual above the quantisation).
+    /// What a user should know about the fit, one sentence each (the logs'
+    /// own warnings, a spent budget, a value at its search bound, a residual
+    /// above the quantisation).
     std::vector<std::string> warnings;
 };
 

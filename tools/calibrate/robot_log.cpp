@@ -71,6 +71,36 @@ std::optional<std::map<std::string, double>> field_line(std::string_view line) {
     return out;
 }
 
+/// The end of the dump. The sketch prints j = 0, 2, ..., addr: addr / 2 + 1
+/// lines, the last the byte at addr, which the run never wrote (not a
+/// sample). With addr printed, a dump that lacks only that line (a copy from
+/// a serial monitor, a printed table) is read with a warning; one that lacks
+/// more is cut and refused. Without addr the last line is taken as the
+/// unwritten one.
+void finish_dump(RobotLog& log) {
+    const std::size_t lines = log.samples.size();
+    const bool lacks_last = log.addr && lines == *log.addr / 2;
+    if (lines < (lacks_last ? 2U : 3U)) {
+        throw std::runtime_error(fmt::format("{}: the EEPROM dump has {} line(s) 'x , y' after END; at least 3 (2 "
+                                             "logged samples and the unwritten byte at addr) are needed to calibrate",
+                                             log.source, lines));
+    }
+    if (log.addr && !lacks_last && *log.addr / 2 + 1 != lines) {
+        throw std::runtime_error(fmt::format("{}: addr {} promises {} dump lines, the file has {} (a cut log? only the "
+                                             "last, the unwritten byte at addr, may be missing)",
+                                             log.source, *log.addr, *log.addr / 2 + 1, lines));
+    }
+    if (lacks_last) {
+        log.warnings.push_back(fmt::format("{}: addr {} promises {} dump lines, the file has {}: read as the dump "
+                                           "without its last line (the byte at addr, which the run never wrote), "
+                                           "{} logged samples",
+                                           log.source, *log.addr, lines + 1, lines, lines));
+        return;
+    }
+    log.unwritten = log.samples.back();
+    log.samples.pop_back();
+}
+
 }  // namespace
 
 RobotLog parse_robot_log(std::string_view text, const std::string& source) {
@@ -169,19 +199,7 @@ RobotLog parse_robot_log(std::string_view text, const std::string& source) {
         throw std::runtime_error(fmt::format("{}:{}: the file ends before {} (after END)", source, end_line,
                                              stage == Stage::kCount1 ? "Count1" : "Count2"));
     }
-    if (log.samples.size() < 3) {
-        throw std::runtime_error(fmt::format("{}: the EEPROM dump has {} line(s) 'x , y' after END; at least 3 (2 "
-                                             "logged samples and the unwritten byte at addr) are needed to calibrate",
-                                             source, log.samples.size()));
-    }
-    // The sketch dumps j = 0, 2, ..., addr: addr / 2 + 1 lines.
-    if (log.addr && *log.addr / 2 + 1 != log.samples.size()) {
-        throw std::runtime_error(fmt::format("{}: addr {} promises {} dump lines, the file has {} (a cut log?)", source,
-                                             *log.addr, *log.addr / 2 + 1, log.samples.size()));
-    }
-    // The last line is the byte at addr, which the run did not write.
-    log.unwritten = log.samples.back();
-    log.samples.pop_back();
+    finish_dump(log);
     return log;
 }
 

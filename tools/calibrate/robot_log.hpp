@@ -14,7 +14,10 @@
 //   0.024 , 0.000               EEPROM.read(j + 500) / 250.0, 3 decimals, for
 //   ...                         j = 0, 2, ..., addr             (required, >= 3 lines)
 //   1.020 , 1.020               j = addr: a byte this run never wrote (erased,
-//                               or an earlier run's): not a sample
+//                               or an earlier run's): not a sample. With addr
+//                               printed this line may be missing (a copy from
+//                               a serial monitor often lacks it): read with a
+//                               warning
 //
 // Each dump value is an EEPROM byte b over 250 (0, 0.004, ..., 1.020): the
 // low 8 bits of int(E x 250), E the firmware's pose estimate [m]. The reader
@@ -51,13 +54,19 @@ struct RobotLog {
     std::map<std::string, double> fields;
     std::optional<uint64_t> addr;        ///< EEPROM bytes used per axis, when printed
     std::vector<LoggedSample> samples;   ///< the dump's logged samples, in order (not its last line)
-    LoggedSample unwritten;              ///< the dump's last line (j = addr), kept for messages
+    /// The dump's last line (j = addr), kept for messages; none when the
+    /// file lacks it (addr printed, one line fewer than it promises).
+    std::optional<LoggedSample> unwritten;
+    /// What was read but should be said, one line each ("SOURCE: ..."): a
+    /// dump without its unwritten last line.
+    std::vector<std::string> warnings;
 };
 
 /// Parses a serial dump. `source` names it in messages. Throws
 /// std::runtime_error "SOURCE:LINE: ..." (or "SOURCE: ...") for a missing
 /// END, Count1/Count2 or dump, a value that is not a byte over 250, a dump
-/// whose length disagrees with a printed addr, or a second run.
+/// whose length disagrees with a printed addr (but for the missing last
+/// line, a warning), or a second run.
 RobotLog parse_robot_log(std::string_view text, const std::string& source);
 
 /// Reads and parses a file (a missing or unreadable file is one line too).

@@ -35,13 +35,35 @@ TEST(RobotLog, ReadsTheCountsTheReportAndTheBytes) {
     EXPECT_DOUBLE_EQ(log.fields.at("Thta"), 7.8159);
     EXPECT_EQ(log.addr, 6u);
     ASSERT_EQ(log.samples.size(), 3u);  // the fourth line is the unwritten byte at addr
-    EXPECT_EQ(log.unwritten.x_byte, 255);
-    EXPECT_EQ(log.unwritten.line, 12);
+    ASSERT_TRUE(log.unwritten.has_value());
+    EXPECT_EQ(log.unwritten->x_byte, 255);
+    EXPECT_EQ(log.unwritten->line, 12);
+    EXPECT_TRUE(log.warnings.empty());
     EXPECT_EQ(log.samples[1].x_byte, 6);    // 0.024 x 250
     EXPECT_EQ(log.samples[1].y_byte, 255);  // 1.020 x 250
     EXPECT_EQ(log.samples[2].x_byte, 34);
     EXPECT_EQ(log.samples[2].y_byte, 1);
     EXPECT_EQ(log.samples[2].line, 11);
+}
+
+// A dump copied from a serial monitor often lacks its last line, the byte
+// at addr the run never wrote: with addr printed, one line fewer than it
+// promises is read as all samples, and said in one line.
+TEST(RobotLog, AddrWithoutTheLastLineIsReadWithAWarning) {
+    std::string text = kDump;
+    text.resize(text.size() - std::string("1.020 , 1.020\r\n").size());
+    const RobotLog log = parse_robot_log(text, "robot.txt");
+    ASSERT_EQ(log.samples.size(), 3u);  // j = 0, 2, 4: the same samples as with the line
+    EXPECT_EQ(log.samples[2].x_byte, 34);
+    EXPECT_EQ(log.samples[2].line, 11);
+    EXPECT_FALSE(log.unwritten.has_value());
+    ASSERT_EQ(log.warnings.size(), 1u);
+    EXPECT_EQ(log.warnings[0], "robot.txt: addr 6 promises 4 dump lines, the file has 3: read as the dump without its "
+                               "last line (the byte at addr, which the run never wrote), 3 logged samples");
+    // Without addr the reader cannot tell: the last line is the unwritten byte.
+    const RobotLog old = parse_robot_log("END\n1\n2\n0.000 , 0.000\n0.004 , 0.008\n0.500 , 0.500\n", "old.txt");
+    EXPECT_EQ(old.samples.size(), 2u);
+    EXPECT_TRUE(old.warnings.empty());
 }
 
 TEST(RobotLog, AnOlderBuildsShortReportIsEnough) {
@@ -78,7 +100,13 @@ TEST(RobotLog, RefusesWhatIsNotOneRunsDump) {
     EXPECT_EQ(refusal("END\n5\n6\n1.024 , 0.000\n0.000 , 0.000\n"),
               "r.txt:4: '1.024 , 0.000': 1.024 is not an EEPROM byte over 250 (0, 0.004, ..., 1.020)");
     EXPECT_EQ(refusal("END\n5\n6\n10\n0.000 , 0.000\n0.000 , 0.000\n0.000 , 0.000\n"),
-              "r.txt: addr 10 promises 6 dump lines, the file has 3 (a cut log?)");
+              "r.txt: addr 10 promises 6 dump lines, the file has 3 (a cut log? only the last, the unwritten "
+              "byte at addr, may be missing)");
+    // One line fewer than addr promises is the missing last line (a warning,
+    // AddrWithoutTheLastLine...); two fewer is a cut log.
+    EXPECT_EQ(refusal("END\n5\n6\n10\n0.000 , 0.000\n0.000 , 0.000\n0.000 , 0.000\n0.000 , 0.000\n"),
+              "r.txt: addr 10 promises 6 dump lines, the file has 4 (a cut log? only the last, the unwritten "
+              "byte at addr, may be missing)");
     EXPECT_EQ(refusal("END\n5\n6\n0.000 , 0.000\n0.000 , 0.000\nEND\n"),
               "r.txt:6: a second END (the first is on line 1): the file holds more than one run; give each run its "
               "own file");
@@ -116,6 +144,17 @@ TEST(RobotLog, TheReferenceFirmwaresDumpGivesBackItsEepromBytes) {
         EXPECT_EQ(log.samples[k].y_byte, run.eeprom.at(2 * k + 500)) << k;
     }
     EXPECT_DOUBLE_EQ(log.fields.at("Ex"), run.report.ex.value());
+    // The same dump without its last line (the byte at addr): the same samples, and a warning.
+    const std::size_t last = run.text.rfind('\n', run.text.size() - 2);
+    ASSERT_NE(last, std::string::npos);
+    const RobotLog cut = parse_robot_log(run.text.substr(0, last + 1), "uart.txt");
+    ASSERT_EQ(cut.samples.size(), log.samples.size());
+    for (std::size_t k = 0; k < cut.samples.size(); ++k) {
+        EXPECT_EQ(cut.samples[k].x_byte, log.samples[k].x_byte) << k;
+        EXPECT_EQ(cut.samples[k].y_byte, log.samples[k].y_byte) << k;
+    }
+    EXPECT_FALSE(cut.unwritten.has_value());
+    EXPECT_EQ(cut.warnings.size(), 1u);
 }
 
 }  // namespace

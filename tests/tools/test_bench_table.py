@@ -1,0 +1,73 @@
+"""`make bench`'s table (tools/bench_table.py) on hand-made Google Benchmark
+output: the calibration bench's counters reach the table and results.json
+(issue 32: truth_in_interval was dropped, and the table said 0 of 5 where
+the JSON said 5)."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+TABLE = Path(__file__).resolve().parents[2] / "tools" / "bench_table.py"
+GOAL = "calibration: true values inside their intervals (of 5)"
+
+
+def calibrate_run(truth_in_interval, rms_mm, repetition=0):
+    """One run of BM_Calibrate5Params2Logs as Google Benchmark writes it
+    (tests/bench/calibrate_bench.cpp: Iterations(1), seconds, real time)."""
+    return {
+        "name": "BM_Calibrate5Params2Logs/iterations:1/real_time",
+        "family_index": 0,
+        "per_family_instance_index": 0,
+        "run_name": "BM_Calibrate5Params2Logs/iterations:1/real_time",
+        "run_type": "iteration",
+        "repetitions": 1,
+        "repetition_index": repetition,
+        "threads": 1,
+        "iterations": 1,
+        "real_time": 42.0,
+        "cpu_time": 41.5,
+        "time_unit": "s",
+        "evaluations": 180.0,
+        "rms_mm": rms_mm,
+        "truth_in_interval": truth_in_interval,
+        "worst_rel_error": 0.01,
+    }
+
+
+def table(bench_dir, runs):
+    """Writes calibrate.json (the only bench file: the others are missing),
+    runs the table; its stdout lines and results.json."""
+    (bench_dir / "calibrate.json").write_text(json.dumps({"context": {}, "benchmarks": runs}))
+    done = subprocess.run([sys.executable, str(TABLE), str(bench_dir)], capture_output=True, text=True, check=True)
+    return done.stdout.splitlines(), json.loads((bench_dir / "results.json").read_text())
+
+
+def goal_line(lines):
+    found = [line for line in lines if GOAL in line]
+    assert len(found) == 1, lines
+    return found[0]
+
+
+def test_the_table_shows_the_calibration_bench_five_of_five(tmp_path):
+    lines, results = table(tmp_path, [calibrate_run(5.0, 1.2)])
+    line = goal_line(lines)
+    assert line.startswith("met "), line
+    assert line.split()[-3:] == ["5.000", "(goal", "5)"], line
+    row = results["benchmarks"]["BM_Calibrate5Params2Logs/iterations:1/real_time"]
+    assert row["truth_in_interval"] == 5.0
+    assert row["rms_mm"] == 1.2
+    assert row["evaluations"] == 180.0
+    assert "real_time" not in row  # Google Benchmark's own fields are not counters
+    assert [g for g in results["goals"] if g["goal"] == GOAL] == [
+        {"goal": GOAL, "value": 5.0, "target": "5", "met": True}]
+
+
+def test_over_repetitions_the_table_keeps_the_worst(tmp_path):
+    # 5 then 4 true values inside their intervals, 1.2 then 6 mm RMS: the
+    # goal is judged on 4 of 5 and 6 mm, and both are missed.
+    lines, results = table(tmp_path, [calibrate_run(5.0, 1.2, 0), calibrate_run(4.0, 6.0, 1)])
+    line = goal_line(lines)
+    assert line.startswith("MISS"), line
+    assert line.split()[-3] == "4.000", line
+    row = results["benchmarks"]["BM_Calibrate5Params2Logs/iterations:1/real_time"]
+    assert (row["truth_in_interval"], row["rms_mm"], row["n"]) == (4.0, 6.0, 2)
