@@ -178,9 +178,10 @@ SessionStop Session::run(Cycles target, const RunCondition& until) {
     };
     if (gdb_ && gdb_->killed()) return done(SessionStop::kKilled);
     while (true) {
-        run_due_actions();
-        if (until.met && until.met()) return done(SessionStop::kCondition);
         if (end_now_) return done(SessionStop::kEnded);
+        run_due_actions();
+        if (end_now_) return done(SessionStop::kEnded);  // an action ended the run
+        if (until.met && until.met()) return done(SessionStop::kCondition);
         if (cycle() >= target) return done(SessionStop::kReachedCycle);
         if (cycle() >= options_.time_limit) return done(SessionStop::kTimeLimit);
         Cycles next = std::min({target, options_.time_limit, next_progress_});

@@ -19,6 +19,23 @@ double distance_to_circle(const plant::Pose& p, double radius) {
     return std::abs(std::hypot(p.x_m, p.y_m) - radius);
 }
 
+/// A motor that turned at least this much [rad]: 100 turns, 800 encoder
+/// edges. In case 1 each motor turns 700-950 times; a motor that never
+/// starts turns 0.
+constexpr double kTurnedRad = 100 * kTwoPi;
+
+/// The firmware ran its case to the end (its report is complete) and the
+/// robot drove: it got 0.1 m (a sixth of the circle's radius) from its start
+/// and both motors turned. A robot that never moved also ends 0.6 m from the
+/// circle (it starts at the centre), so a check that it missed the circle
+/// says nothing without this.
+void expect_completed_and_moved(const RigRun& run) {
+    EXPECT_TRUE(run.report_complete) << run.text.substr(0, 200);
+    EXPECT_GT(run.farthest_m, 0.1);
+    EXPECT_GT(std::abs(run.motor_angle_rad[0]), kTurnedRad);
+    EXPECT_GT(std::abs(run.motor_angle_rad[1]), kTurnedRad);
+}
+
 /// ISRs of a channel that started at or before `cycle`.
 std::size_t isr_count_by(const std::vector<hil::Cycles>& entries, hil::Cycles cycle) {
     return static_cast<std::size_t>(std::upper_bound(entries.begin(), entries.end(), cycle) - entries.begin());
@@ -128,6 +145,7 @@ TEST(PlantCoupler, SwappedEncoderWiringBreaksTracking) {
     config.board.wheel[0].encoder.pin[0] = 3;
     config.board.wheel[1].encoder.pin[0] = 2;
     const auto run = run_rig_case('1', config);
+    expect_completed_and_moved(run);
     // Each wheel's count feeds the other wheel's estimate: the controller
     // steers the wrong way and never converges on the circle.
     EXPECT_GT(distance_to_circle(run.end_truth, 0.6), 0.3);
@@ -138,13 +156,14 @@ TEST(PlantCoupler, SwappedEnableWiringBreaksTracking) {
     config.board.wheel[0].motor[hil::DriverRole::pwm].pin = 11;
     config.board.wheel[1].motor[hil::DriverRole::pwm].pin = 10;
     const auto run = run_rig_case('1', config);
+    expect_completed_and_moved(run);
     EXPECT_GT(distance_to_circle(run.end_truth, 0.6), 0.3);
 }
 
 TEST(PlantCoupler, AWheelWithoutEncoderTurnsButDrivesNoPin) {
     // The left encoder unwired: the firmware counts nothing on pin 3 (its
     // report's Count2 is 0) while its right wheel keeps counting; the left
-    // motor still turns in the plant.
+    // motor still turns in the plant (the firmware, seeing it stand, drives it).
     hil::RigConfig config;
     config.board.wheel[1].encoder.kind = hil::EncoderKind::none;
     const auto run = run_rig_case('1', config);
@@ -154,6 +173,7 @@ TEST(PlantCoupler, AWheelWithoutEncoderTurnsButDrivesNoPin) {
     ASSERT_TRUE(run.report_complete);
     EXPECT_EQ(run.report.count2.value_or(-1), 0.0);
     EXPECT_GT(run.report.count1.value_or(0), 1000.0);
+    EXPECT_GT(std::abs(run.motor_angle_rad[1]), kTurnedRad);
 }
 
 TEST(PlantCoupler, AveragedPwmKeepsTheLoopTimingButMovesTheEndPose) {

@@ -6,6 +6,7 @@
 
 #include <malloc.h>
 
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <thread>
@@ -15,7 +16,9 @@
 #include "support/uno_board.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
+// The sanitizer runtime's count of bytes in use (declared in LLVM's
+// <sanitizer/allocator_interface.h>, which GCC does not ship; libasan has it).
+extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 #endif
 
 namespace ddmr::hil {

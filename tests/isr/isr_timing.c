@@ -9,15 +9,9 @@
 #include <avr/interrupt.h>
 #include <avr/io.h>
 
-ISR(INT0_vect, ISR_NAKED) {
-    __asm__ volatile(
-        "nop\n\t"
-        "nop\n\t"
-        "nop\n\t"
-        "nop\n\t"
-        "nop\n\t"
-        "reti\n\t");
-}
+#include "nop_isr.h" /* tests/firmware */
+
+NOP_ISR(INT0_vect)
 
 int main(void) {
     EICRA = _BV(ISC00); /* any logical change on INT0 */

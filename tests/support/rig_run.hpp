@@ -1,6 +1,9 @@
 #pragma once
 // Runs the reference firmware closed-loop on a RobotRig through one case and
 // keeps what the closed-loop tests check.
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -21,6 +24,8 @@ struct RigRun {
     std::array<hil::EncoderChannelStats, 2> encoder{};
     std::array<std::vector<hil::Cycles>, 2> isr_entries{};
     plant::Pose end_truth{};
+    double farthest_m = 0.0;  ///< the truth's greatest distance from the start (sampled every 1 ms)
+    std::array<double, 2> motor_angle_rad{};  ///< each motor shaft's angle at the end (the plant's)
     hil::Cycles ready_cycle = 0;
     hil::Cycles max_latency = 0;
     std::vector<hil::EepromLogSample> log;
@@ -51,6 +56,9 @@ inline RigRun run_rig_case(char case_byte, const hil::RigConfig& config = {}, do
         last_t = v[0];
     });
     rig.coupler().set_boundary_hook([&](hil::Cycles c) { tracer.poll(c); });
+    rig.coupler().set_truth_sink([&](const hil::TruthSample& t) {
+        run.farthest_m = std::max(run.farthest_m, std::hypot(t.x_m, t.y_m));
+    });
     const auto limit = hil::s_to_cycles(limit_s, kUnoClockHz);
     if (rig.core().run_until_return_from(elf.require("delay"), limit) == hil::RunStop::kCondition) {
         run.ready_cycle = rig.core().cycle();
@@ -66,6 +74,7 @@ inline RigRun run_rig_case(char case_byte, const hil::RigConfig& config = {}, do
         run.isr_entries[ch] = rig.encoders().isr_entries(ch);
     }
     run.end_truth = rig.robot().pose();
+    for (std::size_t m = 0; m < 2; ++m) run.motor_angle_rad[m] = rig.robot().motor_angle_rad(m);
     run.max_latency = rig.coupler().max_input_latency_cycles();
     const auto timing = hil::eeprom_log_timing(rig.eeprom_timing().latest_writes(), run.ready_cycle, kUnoClockHz, 1024);
     run.log = hil::decode_eeprom_log(rig.eeprom().read_all(), timing.sample_count, timing.times_s);

@@ -10,6 +10,7 @@
 
 #include "hil/elf_image.hpp"
 #include "support/process.hpp"
+#include "support/scenario_cli.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
 
@@ -18,21 +19,9 @@ namespace {
 
 using nlohmann::json;
 
-std::filesystem::path write(const TempDir& dir, const std::string& name, const std::string& text) {
-    auto p = dir / name;  // not const: returned by move
-    std::ofstream(p) << text;
-    return p;
-}
-
-ProcessResult scenario(const std::string& args) {
-    return run_command(sh_quote(cli_path().string()) + " scenario " + args);
-}
-
-json result_of(const std::filesystem::path& dir) { return json::parse(read_text(dir / "result.json")); }
-
 TEST(ScenarioCommand, StartsTheCircleAndSeesThePins) {
     TempDir dir;
-    const auto f = write(dir, "start.yaml", R"(name: start
+    const auto f = write_text(dir, "start.yaml", R"(name: start
 timeout: 8s
 steps:
   - delay: 100ms
@@ -61,7 +50,7 @@ steps:
 
 TEST(ScenarioCommand, WaitsForAndChecksPlantSignals) {
     TempDir dir;
-    const auto f = write(dir, "signals.yaml", R"(name: signals
+    const auto f = write_text(dir, "signals.yaml", R"(name: signals
 timeout: 8s
 steps:
   - delay: 100ms
@@ -91,14 +80,14 @@ steps:
 
 TEST(ScenarioCommand, PlantSignalFailuresSayTheValueSeen) {
     TempDir dir;
-    const auto slow = write(dir, "far.yaml", R"(name: far
+    const auto slow = write_text(dir, "far.yaml", R"(name: far
 timeout: 8s
 steps:
   - delay: 100ms
   - write-serial: "1"
   - wait-until: { signal: x_m, op: ">=", value: 5, timeout: 5.5s }
 )");
-    const auto fast = write(dir, "fast.yaml", R"(name: fast
+    const auto fast = write_text(dir, "fast.yaml", R"(name: fast
 timeout: 8s
 steps:
   - delay: 100ms
@@ -130,7 +119,7 @@ steps:
 
 TEST(ScenarioCommand, ResetRestartsTheFirmwareWithTheRobotAttached) {
     TempDir dir;
-    const auto f = write(dir, "reset.yaml", R"(name: reset
+    const auto f = write_text(dir, "reset.yaml", R"(name: reset
 timeout: 20s
 steps:
   - write-serial: "1"
@@ -163,7 +152,7 @@ TEST(ScenarioCommand, ASketchIsBuiltOnceAndRun) {
     TempDir dir;
     std::filesystem::create_directories(dir / "suite/copy");
     std::filesystem::copy_file(source_dir() / "firmware/ddmr_tracking/ddmr_tracking.ino", dir / "suite/copy/copy.ino");
-    const auto f = write(dir, "suite/sketch.yaml", R"(name: sketch
+    const auto f = write_text(dir, "suite/sketch.yaml", R"(name: sketch
 timeout: 8s
 firmware: { sketch: copy/copy.ino }
 steps:
@@ -184,7 +173,7 @@ steps:
     // The same text under another name (a user's copy of an example) is another sketch, not a clash in the cache.
     std::filesystem::create_directories(dir / "suite/other");
     std::filesystem::copy_file(dir / "suite/copy/copy.ino", dir / "suite/other/other.ino");
-    const auto o = write(dir, "suite/other.yaml", R"(name: other
+    const auto o = write_text(dir, "suite/other.yaml", R"(name: other
 timeout: 8s
 firmware: { sketch: other/other.ino }
 steps:
@@ -197,7 +186,7 @@ steps:
     // Broken sketch: refused before anything runs, with the build log named.
     std::filesystem::create_directories(dir / "suite/broken");
     std::ofstream(dir / "suite/broken/broken.ino") << "void setup() { this is not C++ }\nvoid loop() {}\n";
-    const auto b = write(dir, "suite/broken.yaml", "timeout: 1s\nfirmware: { sketch: broken/broken.ino }\nsteps:\n  - delay: 1ms\n");
+    const auto b = write_text(dir, "suite/broken.yaml", "timeout: 1s\nfirmware: { sketch: broken/broken.ino }\nsteps:\n  - delay: 1ms\n");
     const auto bad = run_command(env + sh_quote(cli_path().string()) + " scenario " + sh_quote(b.string()) + " --out " +
                                  sh_quote((dir / "out2").string()));
     EXPECT_EQ(bad.exit_code, 2);
@@ -208,7 +197,7 @@ steps:
 
 TEST(ScenarioCommand, AnAdapterAtAnotherBaudRateReadsGarbage) {
     TempDir dir;
-    const auto f = write(dir, "baud.yaml", R"(name: baud
+    const auto f = write_text(dir, "baud.yaml", R"(name: baud
 timeout: 8s
 serial: { baud: 19200 }
 steps:
@@ -233,7 +222,7 @@ steps:
 
 TEST(ScenarioCommand, FailSerialStopsAtTheLine) {
     TempDir dir;
-    const auto f = write(dir, "unknown.yaml", R"(name: unknown_case
+    const auto f = write_text(dir, "unknown.yaml", R"(name: unknown_case
 timeout: 8s
 steps:
   - fail-serial: "^X$"
@@ -260,20 +249,20 @@ steps:
 // received text's end, escaped.
 TEST(ScenarioCommand, AWaitSerialIntoTheTimeoutIsTheTextNeverCame) {
     TempDir dir;
-    const auto f = write(dir, "slow.yaml", "name: slow\ntimeout: 1s\nsteps:\n  - wait-serial: \"END\"\n");
+    const auto f = write_text(dir, "slow.yaml", "name: slow\ntimeout: 1s\nsteps:\n  - wait-serial: \"END\"\n");
     auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
     const std::string m = result_of(dir / "out/slow")["message"].get<std::string>();
     EXPECT_NE(m.find("'END' never came: the scenario's timeout (1 simulated s) came first; received "), std::string::npos)
         << m;
     EXPECT_NE(m.find("ending '"), std::string::npos) << m;
-    const auto d = write(dir, "long.yaml", "name: long\ntimeout: 1s\nsteps:\n  - delay: 2s\n");
+    const auto d = write_text(dir, "long.yaml", "name: long\ntimeout: 1s\nsteps:\n  - delay: 2s\n");
     r = scenario(sh_quote(d.string()) + " --out " + sh_quote((dir / "out2").string()));
     EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
     EXPECT_NE(result_of(dir / "out2/long")["message"].get<std::string>().find("timeout after 1 simulated s"),
               std::string::npos);
     // The sketch prints its banner and waits: expect-serial shows it, \r\n escaped.
-    const auto e = write(dir, "es.yaml", "name: es\ntimeout: 2s\nsteps:\n  - delay: 1s\n  - expect-serial: \"NOPE\"\n");
+    const auto e = write_text(dir, "es.yaml", "name: es\ntimeout: 2s\nsteps:\n  - delay: 1s\n  - expect-serial: \"NOPE\"\n");
     r = scenario(sh_quote(e.string()) + " --out " + sh_quote((dir / "out3").string()));
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
     const std::string em = result_of(dir / "out3/es")["message"].get<std::string>();
@@ -287,8 +276,8 @@ TEST(ScenarioCommand, AWaitSerialIntoTheTimeoutIsTheTextNeverCame) {
 // --progress shows each scenario's steps; the first line reads naturally.
 TEST(ScenarioCommand, TheSuitesOutputsAreCheckedCountedAndFresh) {
     TempDir dir;
-    const auto ok = write(dir, "ok.yaml", "name: ok\ntimeout: 1s\nsteps:\n  - delay: 1ms\n");
-    const auto bad = write(dir, "bad.yaml", "name: bad\ntimeout: 1s\nsteps:\n  - expect-serial: \"NOPE\"\n");
+    const auto ok = write_text(dir, "ok.yaml", "name: ok\ntimeout: 1s\nsteps:\n  - delay: 1ms\n");
+    const auto bad = write_text(dir, "bad.yaml", "name: bad\ntimeout: 1s\nsteps:\n  - expect-serial: \"NOPE\"\n");
     auto r = scenario(sh_quote(ok.string()) + " --junit " + sh_quote((dir / "nowhere" / "j.xml").string()) + " --out " +
                       sh_quote((dir / "out").string()));
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
@@ -318,8 +307,8 @@ TEST(ScenarioCommand, TheSuitesOutputsAreCheckedCountedAndFresh) {
 
 TEST(ScenarioCommand, BadScenariosAreRefusedBeforeAnythingRuns) {
     TempDir dir;
-    const auto good = write(dir, "good.yaml", "timeout: 1s\nsteps:\n  - delay: 1ms\n");
-    const auto bad = write(dir, "bad.yaml", "timeout: 1s\nsteps:\n  - delay: 1ms\n  - expect-pin: { pin: 2 }\n");
+    const auto good = write_text(dir, "good.yaml", "timeout: 1s\nsteps:\n  - delay: 1ms\n");
+    const auto bad = write_text(dir, "bad.yaml", "timeout: 1s\nsteps:\n  - delay: 1ms\n  - expect-pin: { pin: 2 }\n");
     const auto r = scenario(sh_quote(good.string()) + " " + sh_quote(bad.string()) + " --out " +
                             sh_quote((dir / "out").string()));
     EXPECT_EQ(r.exit_code, 2);
@@ -344,11 +333,11 @@ TEST(ScenarioCommand, UpdateGoldenRecordsThenTheRunPasses) {
     const std::string steps = "timeout: 12s\nsteps:\n  - delay: 100ms\n  - write-serial: \"1\"\n"
                               "  - wait-serial: {text: \"0.6m\", timeout: 6s}\n  - delay: 1s\n"
                               "  - expect-pose: {x_m: 9, y_m: 9, tol_m: 0.0005}\n  - expect-eeprom: {bin: golden.bin}\n";
-    const auto f = write(dir, "g.yaml", "name: g\n" + steps);
+    const auto f = write_text(dir, "g.yaml", "name: g\n" + steps);
     auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "a").string()));
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;  // the made-up values fail
     // A failing step elsewhere: nothing is recorded.
-    const auto bad = write(dir, "bad.yaml", "name: bad\n" + steps + "  - expect-serial: \"NOPE\"\n");
+    const auto bad = write_text(dir, "bad.yaml", "name: bad\n" + steps + "  - expect-serial: \"NOPE\"\n");
     const std::string bad_before = read_text(bad);
     r = scenario(sh_quote(bad.string()) + " --update-golden --out " + sh_quote((dir / "b").string()));
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
@@ -391,7 +380,7 @@ TEST(ScenarioCommand, ExpectVarNamesAreCheckedBeforeTheRun) {
         {"{name: main, value: 1}", "v.yaml:4: expect-var: 'main' is not a variable in SRAM"},
     };
     for (const auto& c : cases) {
-        const auto f = write(dir, "v.yaml", std::string("name: v\ntimeout: 1s\nsteps:\n  - expect-var: ") + c.step + "\n");
+        const auto f = write_text(dir, "v.yaml", std::string("name: v\ntimeout: 1s\nsteps:\n  - expect-var: ") + c.step + "\n");
         const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
         EXPECT_EQ(r.exit_code, 2) << c.step << r.out << r.err;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << c.step << "\n" << r.err;
@@ -405,8 +394,8 @@ TEST(ScenarioCommand, ExpectNoTornReadsNamesTheTornVariables) {
     TempDir dir;
     const auto racy = " --firmware " + sh_quote((test_firmware_dir() / "race_fixture_racy.elf").string());
     const auto fixed = " --firmware " + sh_quote((test_firmware_dir() / "race_fixture_fixed.elf").string());
-    const auto all = write(dir, "all.yaml", "name: all\ntimeout: 1s\nsteps:\n  - delay: 50ms\n  - expect-no-torn-reads\n");
-    const auto some = write(dir, "some.yaml",
+    const auto all = write_text(dir, "all.yaml", "name: all\ntimeout: 1s\nsteps:\n  - delay: 50ms\n  - expect-no-torn-reads\n");
+    const auto some = write_text(dir, "some.yaml",
                             "name: some\ntimeout: 1s\nsteps:\n  - delay: 50ms\n  - expect-no-torn-reads: [ticks]\n");
     auto r = scenario(sh_quote(all.string()) + racy + " --out " + sh_quote((dir / "a").string()));
     EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
@@ -421,7 +410,7 @@ TEST(ScenarioCommand, ExpectNoTornReadsNamesTheTornVariables) {
     r = scenario(sh_quote(all.string()) + fixed + " --out " + sh_quote((dir / "c").string()));
     EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
     // A name that is not a multi-byte variable is refused before the run.
-    const auto bad = write(dir, "bad.yaml", "name: bad\ntimeout: 1s\nsteps:\n  - expect-no-torn-reads: [flag]\n");
+    const auto bad = write_text(dir, "bad.yaml", "name: bad\ntimeout: 1s\nsteps:\n  - expect-no-torn-reads: [flag]\n");
     r = scenario(sh_quote(bad.string()) + racy + " --out " + sh_quote((dir / "d").string()));
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE((r.out + r.err).find("bad.yaml:4: expect-no-torn-reads: 'flag' has 1 byte(s)"), std::string::npos)
@@ -434,7 +423,7 @@ TEST(ScenarioCommand, SameScenarioSameBytesAndParallelSameVerdicts) {
                              "  - wait-serial: \"0.6m\"\n  - delay: 1s\n  - expect-var: { name: Count2, type: int32, op: \">\", value: 0 }\n";
     std::string list;
     for (const char* name : {"a", "b", "c"}) {
-        list += " " + sh_quote(write(dir, std::string(name) + ".yaml", std::string("name: ") + name + "\n" + body).string());
+        list += " " + sh_quote(write_text(dir, std::string(name) + ".yaml", std::string("name: ") + name + "\n" + body).string());
     }
     const auto serial = scenario(list + " -j 1 --out " + sh_quote((dir / "one").string()));
     const auto parallel = scenario(list + " -j 4 --out " + sh_quote((dir / "four").string()));
@@ -459,13 +448,13 @@ namespace {
 TEST(ScenarioCommand, ARerunLeavesNoFileOfTheEarlierRun) {
     TempDir dir;
     // Fails first (pin 12 is low before the case byte), leaving its failure window ...
-    const auto f = write(dir, "again.yaml", "name: again\ntimeout: 1s\nsteps:\n  - delay: 10ms\n"
+    const auto f = write_text(dir, "again.yaml", "name: again\ntimeout: 1s\nsteps:\n  - delay: 10ms\n"
                                             "  - expect-pin: { pin: 12, value: 1 }\n");
     const auto first = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
     EXPECT_EQ(first.exit_code, 1) << first.err;
     EXPECT_TRUE(std::filesystem::exists(dir / "out/again/failure_window.vcd"));
     // ... then passes into the same --out: no window of the failure it no longer has.
-    write(dir, "again.yaml", "name: again\ntimeout: 1s\nsteps:\n  - delay: 10ms\n  - expect-pin: { pin: 12, value: 0 }\n");
+    write_text(dir, "again.yaml", "name: again\ntimeout: 1s\nsteps:\n  - delay: 10ms\n  - expect-pin: { pin: 12, value: 0 }\n");
     const auto second = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
     EXPECT_EQ(second.exit_code, 0) << second.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "out/again/failure_window.vcd"));
