@@ -100,8 +100,10 @@ double Session::wall_seconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
 }
 
-void Session::send(const std::string& text) {
-    rig_->uart().send(adapter_ ? adapter_->as_firmware_receives(text) : text);
+std::string Session::send(const std::string& text) {
+    std::string bytes = adapter_ ? adapter_->as_firmware_receives(text) : text;
+    rig_->uart().send(bytes);
+    return bytes;
 }
 
 void Session::flush_host_bytes() {

@@ -148,8 +148,9 @@ public:
 
     // --- the host's side of the serial line --------------------------------
     /// Types `text` into the firmware's serial port now (as the adapter's
-    /// frames reach the firmware at its baud rate, when there is an adapter).
-    void send(const std::string& text);
+    /// frames reach the firmware at its baud rate, when there is an adapter);
+    /// returns the bytes the firmware receives.
+    std::string send(const std::string& text);
     /// Delivers the bytes still on the wire to the observers (the run's end).
     void flush_host_bytes();
 

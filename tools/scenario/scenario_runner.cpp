@@ -200,7 +200,7 @@ private:
     void on_boundary(Cycles c) override {
         vcd_->on_boundary(c);
         if (!unsent_.empty() && receiver_enabled()) {
-            rig_->uart().send(as_firmware_receives(unsent_));
+            session_->send(unsent_);
             unsent_.clear();
         }
     }
@@ -219,7 +219,6 @@ private:
 
     // --- timed actions and the run ------------------------------------------
     bool receiver_enabled() { return session_->adapter()->receiver_enabled(); }
-    std::string as_firmware_receives(const std::string& text) { return session_->adapter()->as_firmware_receives(text); }
     void at(Cycles cycle, std::function<void()> action) { session_->at(cycle, std::move(action)); }
     /// Runs to `target` or until `done()` (checked whenever the run stops
     /// early; with `poll`, also at every coupling boundary); throws
@@ -258,8 +257,7 @@ private:
             unsent_ += w.text;  // the adapter sends once the firmware listens
             return "held until the firmware enables its receiver";
         }
-        const std::string bytes = as_firmware_receives(w.text);
-        rig_->uart().send(bytes);  // the adapter's frames as the firmware receives them
+        const std::string bytes = session_->send(w.text);  // the adapter's frames as the firmware receives them
         if (bytes != w.text) return fmt::format("the firmware's receiver made {} byte(s) of it", bytes.size());
         return {};
     }
