@@ -32,9 +32,6 @@ namespace {
 constexpr uint32_t kAvrDataOffset = 0x800000;
 /// EF_AVR_MACH: the architecture field of an AVR ELF's e_flags.
 constexpr uint32_t kEfAvrMachMask = 0x7F;
-/// Bytes of .text kept for the vector check: the largest supported table
-/// (the ATmega2560's 57 JMPs) and one slot more, with room to spare.
-constexpr std::size_t kVectorTableBytes = std::size_t{64} * 4;
 
 /// " (e.g. the ATmega2560)": a well-known part of an avr-gcc architecture, for messages.
 std::string arch_example(uint32_t arch) {
@@ -164,8 +161,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
             Elf_Data* d = elf_getdata(scn, nullptr);
             if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
             const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
-            const std::size_t n = std::min<std::size_t>(d->d_size, kVectorTableBytes);
-            img.vector_table_.assign(bytes, bytes + n);
+            img.text_ = std::make_shared<const std::vector<uint8_t>>(bytes, bytes + d->d_size);
         } else if (sname == ".data") {
             img.memory_.data_bytes = static_cast<uint32_t>(shdr.sh_size);
         } else if (sname == ".bss") {
@@ -204,6 +200,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
                 // The linker script puts some data-space markers (_end) in .text's
                 // index with a 0x800000 address: not code.
                 s.in_text = text_index != 0 && sym.st_shndx == text_index && sym.st_value < kAvrDataOffset;
+                s.defined = sym.st_shndx != SHN_UNDEF;
                 auto addr = static_cast<uint32_t>(sym.st_value);
                 if (addr >= kAvrDataOffset && addr < kAvrDataOffset + 0x10000) addr -= kAvrDataOffset;
                 s.address = addr;
@@ -260,13 +257,15 @@ void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) 
     const auto count = static_cast<std::size_t>(mcu.vector_count());
     const auto slot = static_cast<std::size_t>(mcu.vector_bytes);
     const std::size_t table = count * slot;
-    if (vector_table_.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
+    static const std::vector<uint8_t> kNoText;
+    const std::vector<uint8_t>& text = text_ ? *text_ : kNoText;
+    if (text.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
     for (std::size_t v = 0; v < count; ++v) {
-        if (!is_jmp(&vector_table_[v * slot])) {
+        if (!is_jmp(&text[v * slot])) {
             fail(path_, fmt::format("interrupt vector {} is not a JMP or RJMP: not an {} vector table", v, chip));
         }
     }
-    if (vector_table_.size() >= table + slot && is_vector_slot(&vector_table_[table])) {
+    if (text.size() >= table + slot && is_vector_slot(&text[table])) {
         fail(path_, fmt::format("has more than {} interrupt vectors: built for another avr{} MCU, not the {}", count,
                                 mcu.elf_arch, on));
     }
@@ -283,6 +282,13 @@ ElfSymbol ElfImage::require(const std::string& name) const {
     auto s = find(name);
     if (!s) fail(path_, "has no symbol '" + name + "'");
     return *s;
+}
+
+uint16_t ElfImage::text_word(uint32_t byte_address) const {
+    if (!text_ || byte_address < text_address_) return 0xFFFF;
+    const std::size_t i = byte_address - text_address_;
+    if (i + 1 >= text_->size()) return 0xFFFF;
+    return word_at(&(*text_)[i]);
 }
 
 std::optional<ElfSymbol> ElfImage::function_at(uint32_t flash_address) const {
