@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/firmware_diagnostics.hpp"
 #include "common/sha256.hpp"
 #include "common/truth_csv.hpp"
 #include "callgrind_output.hpp"
@@ -251,6 +252,7 @@ RunExit run_exit_of(hil::FailureKind kind) {
         case hil::FailureKind::kSleepForever: return RunExit::kSleepForever;
         case hil::FailureKind::kWatchdogReset: return RunExit::kWatchdogReset;
         case hil::FailureKind::kSimavrError: return RunExit::kSimavrError;
+        case hil::FailureKind::kResetLoop: return RunExit::kResetLoop;
     }
     return RunExit::kCrashed;
 }
@@ -313,6 +315,7 @@ const char* to_string(RunExit exit) {
         case RunExit::kSimavrError: return "simavr_error";
         case RunExit::kStackOverflow: return "stack_overflow";
         case RunExit::kTimeLimit: return "time_limit";
+        case RunExit::kResetLoop: return "reset_loop";
     }
     return "unknown";
 }
@@ -403,6 +406,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const hil::BoardDescription& board = hil::board_description(config.board.model);
     elf.require_mcu(*board.mcu, board.key);
     hil::AvrCore::check_loadable(elf, *board.mcu);
+    // Calls to address 0: a sketch built here was reported by its build.
+    const hil::ZeroCallReport zero_calls = scan_zero_calls(elf, !options.firmware_source.contains("sketch"));
     // What the contract names must be in the ELF (checked before anything is written).
     std::optional<hil::ElfSymbol> ready;
     std::string ready_symbol;
@@ -1027,6 +1032,8 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                   : options.unity ? json{{"complete", false}}  // the summary never came
                                   : json(nullptr)},
         {"firmware_source", options.firmware_source},
+        {"calls_to_address_0", zero_calls_json(zero_calls)},
+        {"unasked_resets", unasked_resets_json(rig.reset_monitor())},
         {"report_fields", [&] {
              if (field_patterns.empty()) return json(nullptr);
              json f = json::object();
