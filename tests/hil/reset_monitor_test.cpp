@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -129,6 +130,16 @@ TEST(ResetMonitor, LeavesNoCallbackBehindAlongsideAnotherWriter) {
         uint64_t writes = 0;
         if (other_writer) avr_register_io_write(core.raw(), core.mcu().sreg, &count_sreg_write, &writes);
         { const hil::ResetMonitor gone(core); }
+        // Nothing of it is left in simavr: no callback, or only the other writer's.
+        const auto& slot = core.raw()->io[AVR_DATA_TO_IO(core.mcu().sreg)].w;
+        if (other_writer) {
+            const auto& shared = core.raw()->io_shared_io[reinterpret_cast<intptr_t>(slot.param)];
+            int live = 0;
+            for (int i = 0; i < shared.used; ++i) live += shared.io[i].c != nullptr ? 1 : 0;
+            EXPECT_EQ(live, 1);
+        } else {
+            EXPECT_EQ(slot.c, nullptr);
+        }
         hil::ResetMonitor monitor(core);
         EXPECT_EQ(core.run_until(kSecond), hil::RunStop::kCondition) << other_writer;  // the live one stops it
         EXPECT_TRUE(monitor.loop()) << other_writer;

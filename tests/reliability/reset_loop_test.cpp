@@ -66,9 +66,12 @@ TEST(ResetLoop, RunningTheElfWarnsOfTheCallAndEndsWithResetLoop) {
 TEST(ResetLoop, BuildingTheSketchReportsTheCallOnce) {
     // A real arduino-builder run, into a cache of the test's own.
     TempDir dir;
-    const auto r = run_command("XDG_CACHE_HOME=" + sh_quote((dir / "cache").string()) + " " +
-                               sh_quote(cli_path().string()) + " run -q --seconds 5 --sketch " +
-                               sh_quote(sketch().string()) + " --out " + sh_quote((dir / "out").string()));
+    const auto run_sketch = [&](const std::string& out) {
+        return run_command("XDG_CACHE_HOME=" + sh_quote((dir / "cache").string()) + " " +
+                           sh_quote(cli_path().string()) + " run -q --seconds 5 --sketch " +
+                           sh_quote(sketch().string()) + " --out " + sh_quote((dir / out).string()));
+    };
+    const auto r = run_sketch("out");
     expect_reset_loop(r, dir / "out");
     // Said by the build (its warnings), and not again by the run of what it built.
     const std::string said = fmt::format("sketch {}: warning: `call 0` at 0x{:04x} in watch(unsigned char): an "
@@ -80,6 +83,10 @@ TEST(ResetLoop, BuildingTheSketchReportsTheCallOnce) {
     const auto& warnings = s["firmware_source"]["warnings"];
     ASSERT_EQ(warnings.size(), 1U) << warnings;
     EXPECT_NE(warnings[0].get<std::string>().find("operator new(unsigned int)"), std::string::npos) << warnings;
+    // From the cache: said again (the scan is not kept in the cache entry).
+    const auto again = run_sketch("again");
+    EXPECT_NE(again.err.find(said), std::string::npos) << again.err;
+    EXPECT_EQ(json::parse(read_text(dir / "again/summary.json"))["firmware_source"]["from_cache"], true);
 }
 
 }  // namespace
