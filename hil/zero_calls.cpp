@@ -81,9 +81,14 @@ std::vector<std::string> unresolved_weak(const ElfImage& elf) {
 
 ZeroCallReport find_zero_calls(const ElfImage& elf) {
     std::map<uint32_t, ZeroCall> found;  // by address: overlapping symbols find a call once
+    uint64_t decoded_to = 0;  // symbols come by address: one inside a decoded one is skipped
     for (const ElfSymbol& s : elf.symbols()) {
         if (!s.in_text || !s.defined || s.size == 0 || s.is_object) continue;
-        const std::vector<Instruction> code = decode_range(elf, s.address, s.address + s.size);
+        // Within .text only: a damaged symbol table may claim any size.
+        const uint64_t end = std::min<uint64_t>(uint64_t{s.address} + s.size, elf.text_end());
+        if (end <= decoded_to || s.address >= end) continue;
+        decoded_to = end;
+        const std::vector<Instruction> code = decode_range(elf, s.address, static_cast<uint32_t>(end));
         for (std::size_t i = 0; i < code.size(); ++i) {
             const avr::Flow& f = code[i].flow;
             const bool transfer = f.kind == avr::Flow::Kind::kCall || f.kind == avr::Flow::Kind::kJump;
