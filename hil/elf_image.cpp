@@ -189,7 +189,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
             Elf_Data* d = elf_getdata(scn, nullptr);
             if (d == nullptr || d->d_buf == nullptr) fail(path, "corrupt .text section");
             const auto* bytes = static_cast<const uint8_t*>(d->d_buf);
-            img.text_.assign(bytes, bytes + d->d_size);
+            img.text_ = std::make_shared<const std::vector<uint8_t>>(bytes, bytes + d->d_size);
         } else if (sname == ".data") {
             img.memory_.data_bytes = static_cast<uint32_t>(shdr.sh_size);
         } else if (sname == ".bss") {
@@ -228,6 +228,7 @@ ElfImage ElfImage::read(const std::filesystem::path& path) {
                 // The linker script puts some data-space markers (_end) in .text's
                 // index with a 0x800000 address: not code.
                 s.in_text = text_index != 0 && sym.st_shndx == text_index && sym.st_value < kAvrDataOffset;
+                s.defined = sym.st_shndx != SHN_UNDEF;
                 auto addr = static_cast<uint32_t>(sym.st_value);
                 if (addr >= kAvrDataOffset && addr < kAvrDataOffset + 0x10000) addr -= kAvrDataOffset;
                 s.address = addr;
@@ -284,13 +285,15 @@ void ElfImage::require_mcu(const McuDescription& mcu, const std::string& board) 
     const auto count = static_cast<std::size_t>(mcu.vector_count());
     const auto slot = static_cast<std::size_t>(mcu.vector_bytes);
     const std::size_t table = count * slot;
-    if (text_.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
+    static const std::vector<uint8_t> kNoText;
+    const std::vector<uint8_t>& text = text_ ? *text_ : kNoText;
+    if (text.size() < table) fail(path_, fmt::format("too short for an {} vector table", chip));
     for (std::size_t v = 0; v < count; ++v) {
-        if (!is_jmp(&text_[v * slot])) {
+        if (!is_jmp(&text[v * slot])) {
             fail(path_, fmt::format("interrupt vector {} is not a JMP or RJMP: not an {} vector table", v, chip));
         }
     }
-    if (text_.size() >= table + slot && is_vector_slot(&text_[table])) {
+    if (text.size() >= table + slot && is_vector_slot(&text[table])) {
         fail(path_, fmt::format("has more than {} interrupt vectors: built for another avr{} MCU, not the {}", count,
                                 mcu.elf_arch, on));
     }
@@ -333,9 +336,10 @@ std::string ElfImage::function_name(const ElfSymbol& function) const {
 }
 
 std::optional<uint16_t> ElfImage::text_word(uint32_t flash_address) const {
-    if (flash_address < text_address_ || flash_address - text_address_ + 1 >= text_.size()) return std::nullopt;
-    const std::size_t i = flash_address - text_address_;
-    return static_cast<uint16_t>(text_[i] | (text_[i + 1] << 8));
+    if (!text_ || flash_address < text_address_ || flash_address - text_address_ + 1 >= text_->size()) {
+        return std::nullopt;
+    }
+    return word_at(&(*text_)[flash_address - text_address_]);
 }
 
 ElfSymbol ElfImage::require(const std::string& name) const {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,7 @@ struct ElfSymbol {
     bool is_object = false;    ///< STT_OBJECT
     ElfBinding binding = ElfBinding::kLocal;
     bool in_text = false;      ///< defined in the .text section (code and PROGMEM)
+    bool defined = true;       ///< false for an undefined symbol (SHN_UNDEF: a weak one the link left unresolved)
 };
 
 /// Flash and RAM use, as avr-size reports them.
@@ -70,6 +72,8 @@ public:
     /// Flash byte addresses of the .text section: [text_begin, text_end).
     uint32_t text_begin() const { return text_address_; }
     uint32_t text_end() const { return text_address_ + memory_.text_bytes; }
+    /// text_word(), or 0xFFFF (erased flash) outside .text.
+    uint16_t text_word_or_erased(uint32_t byte_address) const { return text_word(byte_address).value_or(0xFFFF); }
     /// MCU name from simavr's .mmcu section, when the firmware has one.
     const std::optional<std::string>& mmcu() const { return mmcu_; }
 
@@ -100,7 +104,8 @@ private:
     uint32_t text_address_ = 0;
     std::vector<ElfSymbol> symbols_;
     std::optional<std::string> mmcu_;
-    std::vector<uint8_t> text_;  ///< the bytes of .text (its first: the vector table)
+    /// .text's bytes, shared by copies (an ElfImage is copied into each part that keeps one).
+    std::shared_ptr<const std::vector<uint8_t>> text_;
 };
 
 }  // namespace ddmr::hil

@@ -50,7 +50,8 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       encoders_(core_, config.board),
       robot_(wired(config.plant, config.board)),
       coupler_(core_, robot_, driver_, encoders_, config.coupler),
-      variables_(core_.elf(), core_) {
+      variables_(core_.elf(), core_),
+      reset_monitor_(core_) {
     // The sensors drive their outputs from power-on: the pins start at the
     // encoders' levels, so the first edge is a change the firmware sees.
     for (unsigned m = 0; m < 2; ++m) {

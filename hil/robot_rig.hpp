@@ -10,6 +10,7 @@
 //   PlantCoupler      steps the plant in lockstep, one step ahead of the AVR
 //   EncoderInjector   plant edges => encoder pins at their exact cycles (levels from power-on)
 //   FirmwareVariables globals by ELF symbol
+//   ResetMonitor      restarts the firmware did not ask for (a call to 0): counted, a loop stops the run
 //
 // Construction validates the configuration (throws with the bad value).
 
@@ -25,6 +26,7 @@
 #include "hil/firmware_variables.hpp"
 #include "hil/motor_driver_reader.hpp"
 #include "hil/plant_coupler.hpp"
+#include "hil/reset_monitor.hpp"
 #include "hil/uart_link.hpp"
 #include "plant/robot.hpp"
 #include "plant/robot_params.hpp"
@@ -60,6 +62,8 @@ public:
     plant::Robot& robot() { return robot_; }
     PlantCoupler& coupler() { return coupler_; }
     FirmwareVariables& variables() { return variables_; }
+    ResetMonitor& reset_monitor() { return reset_monitor_; }
+    const ResetMonitor& reset_monitor() const { return reset_monitor_; }
     const RigConfig& config() const { return config_; }
 
 private:
@@ -73,6 +77,7 @@ private:
     plant::Robot robot_;
     PlantCoupler coupler_;
     FirmwareVariables variables_;
+    ResetMonitor reset_monitor_;
 };
 
 }  // namespace ddmr::hil

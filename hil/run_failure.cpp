@@ -16,6 +16,7 @@ RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard* stack_guar
     end.pc = core.pc();
     end.simavr_error = core.log().first_error();
     if (stack_guard != nullptr) end.stack_overflow = stack_guard->overflow();
+    end.reset_loop = rig.reset_monitor().loop();
     end.plant_status = rig.coupler().status();
     end.plant_failed_at_s = rig.coupler().failed_at_s();
     end.plant_pose = rig.robot().pose();
@@ -30,6 +31,15 @@ std::optional<RunFailure> describe_run_failure(const RunEnd& end, FailureWording
         return RunFailure{FailureKind::kStackOverflow,
                           fmt::format("stack overflow into .bss at cycle {} (SP 0x{:04x} below the end of .bss 0x{:04x})",
                                       o.cycle, o.sp, o.bss_end)};
+    }
+    if (end.reset_loop) {
+        const ResetLoop& l = *end.reset_loop;
+        return RunFailure{FailureKind::kResetLoop,
+                          fmt::format("reset loop: the firmware restarted from address 0 without a reset more than "
+                                      "{} times within a simulated second ({} in all by cycle {}, t = {:.6f} s); the "
+                                      "first came from {}",
+                                      ResetRate::kMaxPerWindow, l.count, l.cycle, cycles_to_s(l.cycle, end.clock_hz),
+                                      l.first_from)};
     }
     if (end.plant_status != plant::StepStatus::ok) {
         return RunFailure{FailureKind::kPlantFailed,

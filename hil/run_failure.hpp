@@ -4,8 +4,9 @@
 // decides the priority and the wording:
 //
 //   1. the StackGuard saw SP below the end of .bss   kStackOverflow
-//   2. the plant stopped (diverged, bad input, ...)   kPlantFailed
-//   3. how AvrCore::run_until returned:
+//   2. the ResetMonitor saw a loop of unasked restarts kResetLoop
+//   3. the plant stopped (diverged, bad input, ...)   kPlantFailed
+//   4. how AvrCore::run_until returned:
 //        kCrashed        PC past flash, a bad data access
 //        kDone           the firmware slept with interrupts off: kSleepForever
 //        kWatchdogReset  the watchdog expired with WDE set
@@ -14,7 +15,7 @@
 // kReachedCycle and kCondition are not failures here: what they mean (a
 // timeout, a complete report, a step's condition) is the caller's to say.
 //
-//   (RunStop, AvrCore, StackGuard, PlantCoupler, Robot) => RunEnd => RunFailure
+//   (RunStop, AvrCore, StackGuard, ResetMonitor, PlantCoupler, Robot) => RunEnd => RunFailure
 
 #include <cstdint>
 #include <optional>
@@ -22,6 +23,7 @@
 
 #include "hil/atmega328p.hpp"
 #include "hil/avr_core.hpp"
+#include "hil/reset_monitor.hpp"
 #include "hil/stack_guard.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/robot.hpp"
@@ -30,7 +32,15 @@ namespace ddmr::hil {
 
 class RobotRig;
 
-enum class FailureKind { kStackOverflow, kPlantFailed, kCrashed, kSleepForever, kWatchdogReset, kSimavrError };
+enum class FailureKind {
+    kStackOverflow,
+    kPlantFailed,
+    kCrashed,
+    kSleepForever,
+    kWatchdogReset,
+    kSimavrError,
+    kResetLoop,
+};
 
 /// What the describer reads when a run segment has ended: plain values, so
 /// the wording can be checked without a core.
@@ -41,12 +51,13 @@ struct RunEnd {
     uint32_t pc = 0;                           ///< program counter, flash byte address
     std::string simavr_error;                  ///< SimavrLog::first_error()
     std::optional<StackOverflow> stack_overflow;
+    std::optional<ResetLoop> reset_loop;       ///< the rig's ResetMonitor::loop()
     plant::StepStatus plant_status = plant::StepStatus::ok;
     double plant_failed_at_s = 0.0;  ///< plant time of the failure [s]
     plant::Pose plant_pose{};        ///< the robot's last finite pose
 };
 
-/// Reads the RunEnd of `rig` (its core, coupler and robot) and `stack_guard`
+/// Reads the RunEnd of `rig` (its core, reset monitor, coupler and robot) and `stack_guard`
 /// (nullptr: none watches the stack) after run_until returned `stop`.
 RunEnd observe_run_end(RunStop stop, RobotRig& rig, const StackGuard* stack_guard);
 

@@ -11,6 +11,7 @@
 
 #include "callgrind_output.hpp"
 #include "common/atomic_file.hpp"
+#include "common/firmware_diagnostics.hpp"
 #include "common/truth_csv.hpp"
 #include "contract_watch.hpp"
 #include "exit_codes.hpp"
@@ -40,6 +41,7 @@ RunExit run_exit_of(hil::FailureKind kind) {
         case hil::FailureKind::kSleepForever: return RunExit::kSleepForever;
         case hil::FailureKind::kWatchdogReset: return RunExit::kWatchdogReset;
         case hil::FailureKind::kSimavrError: return RunExit::kSimavrError;
+        case hil::FailureKind::kResetLoop: return RunExit::kResetLoop;
     }
     return RunExit::kCrashed;
 }
@@ -324,6 +326,8 @@ json summary_json(hil::Session& session, const RunPlan& plan, const FirmwareRunO
         {"firmware_report", plan.reports ? report_json(result.report) : json(nullptr)},
         {"unity", unity_json(result, options)},
         {"firmware_source", options.firmware_source},
+        {"calls_to_address_0", zero_calls_json(plan.zero_calls)},
+        {"unasked_resets", unasked_resets_json(rig.reset_monitor())},
         {"report_fields", watch.fields_json()},
         {"simavr_log",
          {{"errors", core.log().errors()},
@@ -348,6 +352,7 @@ const char* to_string(RunExit exit) {
         case RunExit::kSimavrError: return "simavr_error";
         case RunExit::kStackOverflow: return "stack_overflow";
         case RunExit::kTimeLimit: return "time_limit";
+        case RunExit::kResetLoop: return "reset_loop";
     }
     return "unknown";
 }

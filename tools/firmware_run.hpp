@@ -150,6 +150,7 @@ enum class RunExit {
     kSimavrError,       ///< simavr reported an error (an invalid opcode, ...)
     kStackOverflow,     ///< the stack grew into .data/.bss (hil/stack_guard.hpp)
     kTimeLimit,         ///< a run without a contract's `complete` ran its --seconds (success)
+    kResetLoop,         ///< restarts from address 0 without a reset, in a loop (hil/reset_monitor.hpp)
 };
 
 /// "TEXT@TIME" (C escapes \r \n \t \\ \xHH in TEXT; TIME with a unit: 2s,

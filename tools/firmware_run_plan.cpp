@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/firmware_diagnostics.hpp"
 #include "common/sha256.hpp"
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
@@ -128,6 +129,8 @@ RunPlan plan_firmware_run(const FirmwareRunOptions& options) {
     plan.board = &board;
     elf.require_mcu(*board.mcu, board.key);
     hil::AvrCore::check_loadable(elf, *board.mcu);
+    // Calls to address 0: a sketch built here was reported by its build.
+    plan.zero_calls = scan_zero_calls(elf, !options.firmware_source.contains("sketch"));
     // What the contract names must be in the ELF (checked before anything is written).
     std::optional<hil::ElfSymbol>& ready = plan.ready;
     std::string& ready_symbol = plan.ready_symbol;

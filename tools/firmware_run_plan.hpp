@@ -16,6 +16,7 @@
 #include "hil/loop_tracer.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/sketch_contract.hpp"
+#include "hil/zero_calls.hpp"
 
 namespace ddmr::tools {
 
@@ -40,6 +41,7 @@ struct RunPlan {
     std::vector<FirmwareRunOptions::Send> sends;  ///< sorted by time
     std::optional<hil::EepromImage> preload;
     std::string sha256;
+    hil::ZeroCallReport zero_calls;  ///< unguarded calls to address 0 in the ELF
 };
 
 /// Checks `options` and what they name; nothing is written.

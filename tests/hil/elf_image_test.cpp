@@ -179,5 +179,27 @@ TEST(ElfImage, TextWordsAreTheProgramsBytes) {
     EXPECT_TRUE(elf.text_word(elf.text_end() - 2).has_value());
 }
 
+TEST(ElfImage, AWeakSymbolTheLinkLeftUnresolvedIsUndefined) {
+    // weak_call_fixture.c: `void hook(void) __attribute__((weak));`, never defined.
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "weak_call_fixture_unguarded.elf");
+    const auto hook = elf.require("hook");
+    EXPECT_FALSE(hook.defined);
+    EXPECT_EQ(hook.binding, hil::ElfBinding::kWeak);
+    EXPECT_EQ(hook.address, 0U);
+    EXPECT_FALSE(hook.in_text);
+    EXPECT_TRUE(elf.require("main").defined);
+}
+
+TEST(ElfImage, TextWordsAreTheProgramAsFetched) {
+    // The fixture's main is `call 0` (0x940E 0x0000); outside .text reads as erased flash.
+    const auto elf = hil::ElfImage::read(test_firmware_dir() / "weak_call_fixture_unguarded.elf");
+    const uint32_t main = elf.require("main").address;
+    EXPECT_EQ(elf.text_word_or_erased(main), 0x940E);
+    EXPECT_EQ(elf.text_word_or_erased(main + 2), 0x0000);
+    EXPECT_EQ(elf.text_word_or_erased(0), 0x940C);  // the reset vector's JMP
+    EXPECT_EQ(elf.text_word_or_erased(elf.text_end()), 0xFFFF);
+    EXPECT_EQ(elf.text_word_or_erased(elf.text_end() - 1), 0xFFFF);  // half a word
+}
+
 }  // namespace
 }  // namespace ddmr::test

@@ -89,5 +89,23 @@ TEST(RunFailure, StackOverflowThenPlantBeforeTheStop) {
     EXPECT_EQ(hil::describe_run_failure(end, FailureWording::kInStep)->kind, FailureKind::kPlantFailed);
 }
 
+TEST(RunFailure, AResetLoopAfterAStackOverflowBeforeThePlant) {
+    // The ResetMonitor stops the run (kCondition) at the 11th restart within a second.
+    auto end = stopped(RunStop::kCondition);
+    end.plant_status = plant::StepStatus::diverged;
+    end.reset_loop = hil::ResetLoop{17'802, 11, "`call 0` at PC 0x02ea in watch(unsigned char)"};
+    for (const auto w : {FailureWording::kStandalone, FailureWording::kInStep}) {
+        const auto f = hil::describe_run_failure(end, w);
+        ASSERT_TRUE(f);
+        EXPECT_EQ(f->kind, FailureKind::kResetLoop);
+        EXPECT_EQ(f->message,
+                  "reset loop: the firmware restarted from address 0 without a reset more than 10 times within a "
+                  "simulated second (11 in all by cycle 17802, t = 0.001113 s); the first came from `call 0` at PC "
+                  "0x02ea in watch(unsigned char)");
+    }
+    end.stack_overflow = hil::StackOverflow{159'744, 0x0103, 0x014c};
+    EXPECT_EQ(hil::describe_run_failure(end, FailureWording::kStandalone)->kind, FailureKind::kStackOverflow);
+}
+
 }  // namespace
 }  // namespace ddmr::test

@@ -83,6 +83,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Misbehaviour{"never_prints", "'never printed' never came: the scenario's timeout (2 simulated s) came first; received 0 bytes", "", "time_limit"},
                       Misbehaviour{"watchdog", "watchdog reset at cycle", "booted\r\n", "watchdog_reset"},
                       Misbehaviour{"stack_overflow", "stack overflow into .bss at cycle", "recursing\r\n", "stack_overflow"},
+                      Misbehaviour{"reset_loop", "reset loop: the firmware restarted from address 0 without a reset more than 10 times", "booted\r\n", "reset_loop"},
                       Misbehaviour{"uart_flood", "'never printed' never came: the scenario's timeout (2 simulated s) came first; received 19", "FLOOD FLOOD", "time_limit"}),
     [](const ::testing::TestParamInfo<Misbehaviour>& param_info) { return std::string(param_info.param.firmware); });
 

@@ -17,6 +17,7 @@
 #include "common/sha256.hpp"
 #include "common/spawn.hpp"
 #include "common/visible_files.hpp"
+#include "hil/zero_calls.hpp"
 
 namespace ddmr::tools {
 namespace fs = std::filesystem;
@@ -160,6 +161,14 @@ std::optional<std::pair<std::vector<UsedLibrary>, std::vector<std::string>>> val
     }
 }
 
+/// The ELF's unguarded calls to address 0 (hil/zero_calls.hpp), after
+/// arduino-builder's own warnings: found on every build, cached or not.
+void add_zero_call_warnings(SketchBuild& b) {
+    for (std::string& line : hil::describe_zero_calls(hil::find_zero_calls(hil::ElfImage::read(b.elf)))) {
+        b.warnings.push_back(std::move(line));
+    }
+}
+
 }  // namespace
 
 SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options) {
@@ -197,6 +206,7 @@ SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options)
         b.libraries = std::move(cached->first);
         b.warnings = std::move(cached->second);
         b.from_cache = true;
+        add_zero_call_warnings(b);
         return b;
     }
 
@@ -269,6 +279,7 @@ SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options)
     if (!fs::is_regular_file(b.elf)) {
         throw std::runtime_error(fmt::format("sketch {}: cache {} unusable", ino.string(), entry.string()));
     }
+    add_zero_call_warnings(b);
     return b;
 }
 

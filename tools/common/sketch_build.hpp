@@ -51,7 +51,9 @@ struct SketchBuild {
     std::filesystem::path log;          ///< arduino-builder's output (build.log in the cache entry)
     LibraryFolders folders;             ///< where libraries were looked for
     std::vector<UsedLibrary> libraries; ///< what arduino-builder used
-    std::vector<std::string> warnings;  ///< arduino-builder's (common/arduino_libraries.hpp builder_warnings)
+    /// arduino-builder's (common/arduino_libraries.hpp builder_warnings), then
+    /// the ELF's unguarded calls to address 0 (hil/zero_calls.hpp)
+    std::vector<std::string> warnings;
     bool from_cache = false;
 };
 
