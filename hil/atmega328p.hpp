@@ -79,6 +79,7 @@ inline constexpr uint16_t kPcifr = 0x3B;  ///< PCIF0..2 = bits 0..2
 inline constexpr uint16_t kEifr = 0x3C;   ///< INTF0 = bit 0, INTF1 = bit 1
 inline constexpr uint16_t kEimsk = 0x3D;  ///< INT0 = bit 0, INT1 = bit 1
 inline constexpr uint16_t kMcusr = 0x54;  ///< reset flags
+inline constexpr uint16_t kMcucr = 0x55;  ///< PUD = bit 4 (section 13.4.1)
 inline constexpr uint16_t kEecr = 0x3F;
 inline constexpr uint16_t kEedr = 0x40;
 inline constexpr uint16_t kEearL = 0x41;
@@ -89,6 +90,8 @@ inline constexpr uint16_t kSreg = 0x5F;
 inline constexpr uint16_t kPcicr = 0x68;  ///< PCIE0..2 = bits 0..2
 inline constexpr uint16_t kEicra = 0x69;  ///< ISCn1:0 = bits 2n+1:2n
 inline constexpr uint16_t kPcmsk0 = 0x6B; ///< PCMSK1 = 0x6C, PCMSK2 = 0x6D
+inline constexpr uint16_t kAdcsra = 0x7A;  ///< section 24.9.2 (same address on the ATmega2560)
+inline constexpr uint16_t kAdmux = 0x7C;   ///< section 24.9.1 (same address on the ATmega2560)
 inline constexpr uint16_t kTccr1A = 0x80;
 inline constexpr uint16_t kTccr1B = 0x81;
 inline constexpr uint16_t kOcr1AL = 0x88;
@@ -99,6 +102,8 @@ inline constexpr uint16_t kTccr2A = 0xB0;
 inline constexpr uint16_t kTccr2B = 0xB1;
 inline constexpr uint16_t kOcr2A = 0xB3;
 inline constexpr uint16_t kOcr2B = 0xB4;
+inline constexpr uint16_t kTwsr = 0xB9;    ///< section 22.9.3 (same address on the ATmega2560)
+inline constexpr uint16_t kTwcr = 0xBC;    ///< section 22.9.2 (same address on the ATmega2560)
 inline constexpr uint16_t kUcsr0A = 0xC0;
 inline constexpr uint16_t kUcsr0B = 0xC1;
 inline constexpr uint16_t kUcsr0C = 0xC2;
@@ -106,6 +111,16 @@ inline constexpr uint16_t kUbrr0L = 0xC4;
 inline constexpr uint16_t kUbrr0H = 0xC5;
 inline constexpr uint16_t kUdr0 = 0xC6;
 }  // namespace reg
+
+/// MCUCR bit 4, PUD: 1 disables every pull-up, whatever DDxn and PORTxn say
+/// (datasheet 7810D section 13.2.1, Table 13-1; the ATmega2560's MCUCR has it
+/// at the same address and bit, 2549Q 13.4.1).
+inline constexpr int kPud = 4;
+
+/// ADC inputs ADC0..ADC7 (ADC6/7 only in the 32-pin packages: the Nano's A6, A7).
+inline constexpr int kAdcChannels = 8;
+/// The internal bandgap reference, REFS1:0 = 11 (section 24.9.1, Table 24-3).
+inline constexpr double kInternalRefV = 1.1;
 
 /// MCUSR bit: the last reset was the watchdog's.
 inline constexpr uint8_t kWdrf = 1U << 3;

@@ -39,6 +39,8 @@ BoardDescription make(BoardModel model, const char* key, const char* label, cons
     d.fqbn = fqbn;
     d.mcu = &atmega328p_mcu();
     d.clock_hz = clock_hz;
+    // The 8 MHz Pro Mini is the 3.3 V one (boards.txt: "3.3V, 8 MHz").
+    d.supply_v = clock_hz == 8'000'000 ? 3.3 : 5.0;
     d.pins = standard_variant_pins();
     d.analog0 = 14;
     d.analog_only = std::move(analog_only);
@@ -54,6 +56,7 @@ BoardDescription mega2560() {
     d.fqbn = "arduino:avr:mega:cpu=atmega2560";
     d.mcu = &atmega2560_mcu();
     d.clock_hz = 16'000'000;
+    d.supply_v = 5.0;
     d.pins = mega_variant_pins();
     d.analog0 = 54;
     d.console_usart = 0;  // Serial: USART0 on D0/D1 (PE0/PE1), the USB-serial chip's

@@ -29,6 +29,7 @@ struct BoardDescription {
     const char* fqbn = "";   ///< arduino-builder -fqbn
     const McuDescription* mcu = nullptr;
     uint32_t clock_hz = 0;      ///< the crystal / resonator [Hz] (build.f_cpu)
+    double supply_v = 5.0;      ///< VCC = AVCC [V]: the ADC's default reference
     std::vector<PortBit> pins;  ///< Arduino pin number -> port bit
     int analog0 = 0;            ///< the number of A0 (A1 = analog0 + 1, ...)
     /// Analog inputs without a port bit (the Nano's and Pro Mini's A6, A7):

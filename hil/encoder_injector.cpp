@@ -1,10 +1,7 @@
 #include "hil/encoder_injector.hpp"
 
-#include <avr_ioport.h>
 #include <sim_avr.h>
-#include <sim_cycle_timers.h>
 #include <sim_interrupts.h>
-#include <sim_io.h>
 #include <sim_irq.h>
 
 #include <fmt/format.h>
@@ -23,7 +20,7 @@ enum class Sense : uint8_t { low_level = 0, change = 1, falling = 2, rising = 3 
 
 }  // namespace
 
-EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core_(core) {
+EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core_(core), driver_(core) {
     validate(board);
     if (board.model != core.board().model) {
         throw std::logic_error(std::string("EncoderInjector: the wiring is for board ") +
@@ -37,8 +34,6 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
             Signal& sig = signal_[ch][s];
             sig.used = true;
             sig.pin = *board_pin(core_.board(), w.pin[s]);
-            sig.irq = avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ(sig.pin.port)), sig.pin.bit);
-            if (sig.irq == nullptr) throw std::runtime_error("simavr has no IRQ for pin " + std::to_string(w.pin[s]));
             // A pin with neither (some Mega pins) can only be polled: no vector.
             if (sig.pin.ext_int) {
                 sig.vector = mcu.int0_vector + *sig.pin.ext_int;
@@ -70,33 +65,13 @@ EncoderInjector::EncoderInjector(AvrCore& core, const BoardWiring& board) : core
         isr_watch_[ch] = IsrWatch{this, ch};
         avr_irq_register_notify(irqs + AVR_INT_IRQ_RUNNING, &EncoderInjector::on_isr, &isr_watch_[ch]);
     }
-    core_.add_reset_listener(this, [this] { restore_after_reset(); });
+    driver_.set_before_edge([this](int pin, Cycles cycle, bool level) { before_edge(pin, cycle, level); });
+    driver_.set_after_edge([this](int pin, Cycles cycle, bool level) {
+        if (edge_listener_) edge_listener_(pin, cycle, level);
+    });
 }
 
-EncoderInjector::~EncoderInjector() {
-    core_.remove_reset_listener(this);
-    avr_cycle_timer_cancel(core_.raw(), &EncoderInjector::on_timer, this);
-}
-
-void EncoderInjector::restore_after_reset() {
-    // An AVR reset cancels the edge timer and clears PINx; the sensors still
-    // drive their pins: restore the levels and re-arm for the queued edges.
-    for (const auto& wheel : signal_) {
-        for (const Signal& s : wheel) {
-            if (!s.used) continue;
-            uint8_t& pin = core_.raw()->data[s.pin.pin_register];
-            const auto mask = static_cast<uint8_t>(1U << static_cast<unsigned>(s.pin.bit));
-            pin = s.irq->value != 0 ? static_cast<uint8_t>(pin | mask) : static_cast<uint8_t>(pin & ~mask);
-        }
-    }
-    armed_ = false;
-    if (!queue_.empty()) {
-        const Cycles now = core_.cycle();
-        const Cycles at = queue_.front().cycle;
-        armed_ = true;
-        avr_cycle_timer_register(core_.raw(), at > now ? at - now : 0, &EncoderInjector::on_timer, this);
-    }
-}
+EncoderInjector::~EncoderInjector() = default;
 
 void EncoderInjector::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     if (value == 0) return;  // 0: RETI; 1: the vector is entered
@@ -113,36 +88,19 @@ unsigned EncoderInjector::pin_index(unsigned channel, unsigned signal) const {
 
 bool EncoderInjector::level(unsigned channel, unsigned signal) const {
     const Signal& s = signal_[channel][signal];
-    return s.used && s.irq->value != 0;
+    return s.used && driver_.level(s.pin.number);
 }
 
 void EncoderInjector::drive_now(unsigned channel, unsigned signal, bool level) {
     const Signal& s = signal_[channel][pin_index(channel, signal)];
     if (!s.used) throw std::out_of_range("encoder signal not wired");
-    avr_raise_irq(s.irq, level ? 1 : 0);
+    driver_.drive_now(s.pin.number, level);
 }
 
 void EncoderInjector::schedule(unsigned channel, unsigned signal, Cycles cycle, bool level) {
-    if (!signal_[channel][pin_index(channel, signal)].used) return;  // the wheel has no such output
-    queue_.push_back(Edge{cycle, channel, pin_index(channel, signal), level});
-    if (!armed_) {
-        const Cycles now = core_.cycle();
-        armed_ = true;
-        avr_cycle_timer_register(core_.raw(), cycle > now ? cycle - now : 0, &EncoderInjector::on_timer, this);
-    }
-}
-
-uint64_t EncoderInjector::on_timer(struct avr_t* /*avr*/, uint64_t when, void* param) {
-    auto* self = static_cast<EncoderInjector*>(param);
-    while (!self->queue_.empty() && self->queue_.front().cycle <= when) {
-        self->raise(self->queue_.front());
-        self->queue_.pop_front();
-    }
-    if (self->queue_.empty()) {
-        self->armed_ = false;
-        return 0;
-    }
-    return self->queue_.front().cycle;
+    const Signal& s = signal_[channel][pin_index(channel, signal)];
+    if (!s.used) return;  // the wheel has no such output
+    driver_.schedule(s.pin.number, cycle, level);
 }
 
 bool EncoderInjector::request_pending(const Signal& s, bool level) const {
@@ -165,16 +123,19 @@ bool EncoderInjector::request_pending(const Signal& s, bool level) const {
     return s.pcint_pending->value != 0;
 }
 
-void EncoderInjector::raise(const Edge& e) {
-    EncoderChannelStats& st = stats_[e.channel];
-    const Signal& s = signal_[e.channel][e.signal];
-    if (request_pending(s, e.level)) {
-        ++st.lost_edges;
-        st.last_lost_cycle = core_.cycle();
+void EncoderInjector::before_edge(int pin, Cycles cycle, bool level) {
+    for (unsigned ch = 0; ch < 2; ++ch) {
+        for (const Signal& s : signal_[ch]) {
+            if (!s.used || s.pin.number != pin) continue;
+            EncoderChannelStats& st = stats_[ch];
+            if (request_pending(s, level)) {
+                ++st.lost_edges;
+                st.last_lost_cycle = cycle;
+            }
+            ++st.edges_injected;
+            return;
+        }
     }
-    ++st.edges_injected;
-    avr_raise_irq(s.irq, e.level ? 1 : 0);
-    if (edge_listener_) edge_listener_(s.pin.number, core_.cycle(), e.level);
 }
 
 }  // namespace ddmr::hil

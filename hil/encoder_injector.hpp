@@ -16,12 +16,12 @@
 //        cannot start another ISR: it is counted as lost (datasheet 7810D
 //        section 12: one flag per request).
 //
-// Edges are queued in time order (the plant reports each step's edges sorted,
-// steps in order) and served by one cycle timer armed at the earliest.
+// The levels are put on the pins by a PinDriver (hil/pin_driver.hpp): its
+// queue and cycle timer raise each edge at its cycle, and it restores the
+// levels after an AVR reset.
 
 #include <array>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -29,6 +29,7 @@
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
 #include "hil/board_description.hpp"
+#include "hil/pin_driver.hpp"
 
 struct avr_irq_t;
 
@@ -81,19 +82,12 @@ public:
     /// The level the injector last put on the pin of wheel `channel`'s
     /// encoder signal `pin_signal` (0: OUT / A pin, 1: B pin of the board file).
     bool level(unsigned channel, unsigned pin_signal) const;
-    std::size_t pending() const { return queue_.size(); }
+    std::size_t pending() const { return driver_.pending(); }
 
 private:
-    struct Edge {
-        Cycles cycle;
-        unsigned channel;
-        unsigned signal;
-        bool level;
-    };
     struct Signal {
         bool used = false;
         PinInfo pin{};
-        avr_irq_t* irq = nullptr;
         int vector = -1;
         avr_irq_t* ext_pending = nullptr;    ///< INTn's pending IRQ (D2, D3)
         avr_irq_t* pcint_pending = nullptr;  ///< the pin-change group's pending IRQ
@@ -102,12 +96,11 @@ private:
         EncoderInjector* self = nullptr;
         unsigned channel = 0;
     };
-    static uint64_t on_timer(struct avr_t* avr, uint64_t when, void* param);
     static void on_isr(avr_irq_t* irq, uint32_t value, void* param);
-    void raise(const Edge& e);
+    /// Counts an edge the driver is about to put on `pin`, and whether it is lost.
+    void before_edge(int pin, Cycles cycle, bool level);
     /// Whether this edge finds its interrupt request still pending.
     bool request_pending(const Signal& s, bool level) const;
-    void restore_after_reset();
     /// The board's pin (0: OUT / A, 1: B) of the plant's signal: swapped when
     /// a quadrature encoder is `reversed` (B leads A going forward).
     unsigned pin_index(unsigned channel, unsigned signal) const;
@@ -118,9 +111,8 @@ private:
     std::array<EncoderChannelStats, 2> stats_{};
     std::array<std::vector<Cycles>, 2> isr_entries_{};
     std::array<IsrWatch, 2> isr_watch_{};
-    std::deque<Edge> queue_;
     std::function<void(int, Cycles, bool)> edge_listener_;
-    bool armed_ = false;
+    PinDriver driver_;
 };
 
 }  // namespace ddmr::hil

@@ -67,6 +67,10 @@ void set_megaavr_core_registers(McuDescription& d) {
     d.sph = reg::kSph;
     d.sreg = reg::kSreg;
     d.mcusr = reg::kMcusr;
+    d.mcucr = reg::kMcucr;
+    d.pud_bit = atmega328p::kPud;
+    d.twsr = reg::kTwsr;
+    d.twcr = reg::kTwcr;
     d.eecr = reg::kEecr;
     d.eedr = reg::kEedr;
     d.eearl = reg::kEearL;

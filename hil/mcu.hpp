@@ -11,6 +11,7 @@
 // hil/atmega328p.hpp, whose named constants cite the datasheet.
 // Addresses are data-space addresses (I/O address + 0x20), as simavr uses.
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -51,6 +52,23 @@ struct OcChannel {
     int channel = 0;
 };
 
+/// What REFS1:0 in ADMUX select as the ADC's reference.
+enum class AdcRefKind : uint8_t { aref, avcc, internal, reserved };
+struct AdcRefChoice {
+    AdcRefKind kind = AdcRefKind::reserved;
+    double internal_v = 0.0;  ///< the internal reference [V] (kind internal)
+};
+
+/// The ADC (datasheet chapter "Analog-to-Digital Converter"): its registers
+/// (data-space addresses), single-ended inputs ADC0..ADC(channels - 1) on the
+/// analog pins A0.., and the reference each REFS1:0 value selects.
+struct AdcDesc {
+    uint16_t admux = 0;   ///< REFS1:0 = bits 7:6, ADLAR = 5, MUX = 4:0
+    uint16_t adcsra = 0;  ///< ADEN = 7, ADSC = 6, ADPS2:0 = 2:0
+    int channels = 0;
+    std::array<AdcRefChoice, 4> refs{};  ///< indexed by REFS1:0
+};
+
 struct McuDescription {
     const char* name = "";   ///< avr-gcc -mmcu and simavr core name: "atmega328p"
     const char* label = "";  ///< as the datasheet writes it: "ATmega328P"
@@ -69,6 +87,10 @@ struct McuDescription {
 
     // Core registers.
     uint16_t spl = 0, sph = 0, sreg = 0, mcusr = 0;
+    uint16_t mcucr = 0;  ///< MCUCR: PUD (bit pud_bit) disables all pull-ups
+    uint16_t twsr = 0;   ///< TWSR: the TWI status (bits 7:3) and prescaler (1:0)
+    uint16_t twcr = 0;   ///< TWCR: TWINT = bit 7
+    int pud_bit = 0;
     uint16_t eecr = 0, eedr = 0, eearl = 0, eearh = 0;
 
     std::vector<PortRegisters> ports;
@@ -90,6 +112,7 @@ struct McuDescription {
 
     std::vector<TimerDesc> timers;  ///< indexed by n
     std::vector<UsartDesc> usarts;  ///< indexed by n
+    AdcDesc adc;
 
     [[nodiscard]] int vector_count() const { return static_cast<int>(vector_names.size()); }
     /// The vector's name, or "vector N" past the table.
@@ -110,7 +133,7 @@ struct McuDescription {
 /// A megaAVR USART at `ucsra` (UCSRnA; B, C, UBRRnL, UBRRnH, UDRn at +1, +2,
 /// +4, +5, +6) with its RX, UDRE, TX vectors at rx_vector, +1, +2.
 UsartDesc megaavr_usart(int index, uint16_t ucsra, int rx_vector, PortBit rxd, PortBit txd);
-/// SPL, SPH, SREG, MCUSR and the EEPROM registers: the same data addresses on
+/// SPL, SPH, SREG, MCUSR, MCUCR, TWSR, TWCR and the EEPROM registers: the same data addresses on
 /// the ATmega328P and the ATmega2560 (both register summaries).
 void set_megaavr_core_registers(McuDescription& d);
 

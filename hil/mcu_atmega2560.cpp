@@ -102,6 +102,16 @@ McuDescription make_atmega2560() {
                 timer16(5, 0x120, pin('L', 3), pin('L', 4), pin('L', 5))};
     d.usarts = {megaavr_usart(0, 0xC0, 25, {'E', 0}, {'E', 1}), megaavr_usart(1, 0xC8, 36, {'D', 2}, {'D', 3}),
                 megaavr_usart(2, 0xD0, 51, {'H', 0}, {'H', 1}), megaavr_usart(3, 0x130, 54, {'J', 0}, {'J', 1})};
+    // ADC (2549Q section 26.8.1, Table 26-3): ADMUX and ADCSRA at the
+    // ATmega328P's addresses; 16 inputs (MUX5 in ADCSRB selects ADC8..15);
+    // REFS1:0 00 AREF, 01 AVCC, 10 internal 1.1 V, 11 internal 2.56 V.
+    d.adc.admux = atmega328p::reg::kAdmux;
+    d.adc.adcsra = atmega328p::reg::kAdcsra;
+    d.adc.channels = 16;
+    d.adc.refs = {{{AdcRefKind::aref, 0.0},
+                   {AdcRefKind::avcc, 0.0},
+                   {AdcRefKind::internal, 1.1},
+                   {AdcRefKind::internal, 2.56}}};
     return d;
 }
 

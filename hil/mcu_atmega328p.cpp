@@ -49,6 +49,15 @@ McuDescription make_atmega328p() {
     // USART0 (chapter 20): UCSR0A at 0xC0 .. UDR0 at 0xC6, RXD0 = PD0, TXD0 = PD1.
     static_assert(reg::kUdr0 == reg::kUcsr0A + 6 && reg::kUbrr0L == reg::kUcsr0A + 4, "USART0 layout");
     d.usarts = {megaavr_usart(0, reg::kUcsr0A, chip::vector::kUsartRx, {'D', 0}, {'D', 1})};
+    // ADC (section 24.9.1, Table 24-3 "Voltage Reference Selections"):
+    // 00 AREF, 01 AVCC with a capacitor at AREF, 10 reserved, 11 internal 1.1 V.
+    d.adc.admux = reg::kAdmux;
+    d.adc.adcsra = reg::kAdcsra;
+    d.adc.channels = chip::kAdcChannels;
+    d.adc.refs = {{{AdcRefKind::aref, 0.0},
+                   {AdcRefKind::avcc, 0.0},
+                   {AdcRefKind::reserved, 0.0},
+                   {AdcRefKind::internal, chip::kInternalRefV}}};
     return d;
 }
 

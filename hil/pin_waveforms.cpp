@@ -9,6 +9,7 @@
 #include <string>
 
 #include "hil/avr_timers.hpp"
+#include "hil/pin_probe.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -55,7 +56,7 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
         Pin& w = pin_[static_cast<std::size_t>(p)];
         w.watched = true;
         w.info = *info;
-        port_registers.insert({info->ddr_register, info->port_register});
+        port_registers.insert({info->ddr_register, info->port_register, core.mcu().mcucr});
         if (info->oc) {
             const auto t = static_cast<std::size_t>(info->oc->timer);
             if (!timer_[t]) timer_[t].emplace(timers_[t]);
@@ -130,11 +131,15 @@ void PinWaveforms::sample_timer(std::size_t t) {
 
 void PinWaveforms::sample_ports() {
     bool changed = false;
+    const bool pud = bit_set(core_.data(core_.mcu().mcucr), core_.mcu().pud_bit);
     for (Pin& p : pin_) {
         if (!p.watched) continue;
-        const bool output = bit_set(core_.data(p.info.ddr_register), p.info.bit);
-        const bool port = bit_set(core_.data(p.info.port_register), p.info.bit);
-        const PinMode mode = output ? PinMode::output : (port ? PinMode::input_pullup : PinMode::input_floating);
+        const PinState s = pin_state(bit_set(core_.data(p.info.ddr_register), p.info.bit),
+                                     bit_set(core_.data(p.info.port_register), p.info.bit), pud);
+        const bool output = s.output;
+        // An input's "level" is its pull-up (off under PUD whatever PORT says).
+        const bool port = output ? s.port_bit : s.pull_up;
+        const PinMode mode = output ? PinMode::output : (s.pull_up ? PinMode::input_pullup : PinMode::input_floating);
         if (mode != p.mode || port != p.port_bit) changed = true;
         p.mode = mode;
         p.port_bit = port;

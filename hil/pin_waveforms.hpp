@@ -8,13 +8,14 @@
 // 17.5 "Compare Match Output Unit"):
 //   DDR = 1, the pin's OC unit connected by COMnx : the timer's waveform
 //   DDR = 1, otherwise                             : the PORT bit (static)
-//   DDR = 0, PORT = 1                              : input with the pull-up on
-//   DDR = 0, PORT = 0                              : floating input
+//   DDR = 0, PORT = 1, PUD = 0                     : input with the pull-up on
+//   DDR = 0, PORT = 0 (or PUD = 1 in MCUCR)        : floating input
+// (the port bits decoded by pin_state(), hil/pin_probe.hpp).
 // What a part connected to an input pin reads (pull-up, a pull-down of its
 // own, floating) is the part's business (MotorDriverReader).
 //
 // Signals (simavr iomem notifications, after each access): DDRx and PORTx of
-// the ports of watched pins; TCCRnA/B, OCRnA/B and ICR1 of the timers whose
+// the ports of watched pins, MCUCR (PUD); TCCRnA/B, OCRnA/B and ICR1 of the timers whose
 // OC units sit on watched pins. TCNT writes are not followed: the counter's
 // phase is taken from the cycle its clock was started (the PWM duty and
 // frequency are exact; the phase within a period may differ after a
@@ -52,7 +53,7 @@ public:
     /// An output whose OC unit drives it.
     [[nodiscard]] bool timer_driven(int pin) const;
     /// Output: its level during `cycle` (cycle >= the last advance_to);
-    /// input: the PORT bit (whether the pull-up is on).
+    /// input: whether the pull-up is on (PORT bit set, PUD clear).
     [[nodiscard]] bool level_at(int pin, Cycles cycle) const;
     /// First cycle after `cycle` at which level_at changes, or kNever.
     [[nodiscard]] Cycles next_change_after(int pin, Cycles cycle) const;
