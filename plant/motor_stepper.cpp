@@ -190,18 +190,155 @@ DcMotorState MotorStepper::state_at(const MotorSegment& seg, double tau) const {
     return s;
 }
 
+/// The first event of a moving segment before `tau_s`: w reaches 0 (1), or,
+/// bridge off, I reaches 0 (2); 0 and `tau_s` when none. `x0`/`x1`: the state at
+/// the segment's start and at `tau_s`; `b`: the input term; `s`: the sign w moves with.
+MotorStepper::MovingEvent MotorStepper::moving_event(const MotorSegment& seg, const Eigen::Vector2d& x0,
+                                                     const Eigen::Vector2d& x1, const Eigen::Vector2d& b,
+                                                     double s, double tau_s, bool open) const {
+    const Eigen::Vector2d d0 = x0 - seg.x_ss;
+    auto eval = [&](double tt) -> Eigen::Vector2d {
+        return seg.x_ss + transition(tt) * d0;
+    };
+    const double tau = tau_s;
+    double t_event = tau;
+    int event = 0;  // 1: w reaches 0, 2: I reaches 0 (bridge off)
+    // g(t) = s w(t) starts >= 0; find its first downward zero.
+    auto w_fn = [&](double tt) {
+        const Eigen::Vector2d xx = eval(tt);
+        const Eigen::Vector2d dx = a_ * xx + b;
+        return std::pair<double, double>{xx(1), dx(1)};
+    };
+    auto dw_fn = [&](double tt) {
+        const Eigen::Vector2d xx = eval(tt);
+        const Eigen::Vector2d dx = a_ * xx + b;
+        const Eigen::Vector2d ddx = a_ * dx;
+        return std::pair<double, double>{dx(1), ddx(1)};
+    };
+    const double dw0 = (a_ * x0 + b)(1);
+    const double dw1 = (a_ * x1 + b)(1);
+    if (s * x1(1) <= 0.0) {
+        if (x0(1) != 0.0) {
+            t_event = find_root(w_fn, 0.0, tau, s);
+        } else {
+            // Starts at rest: it first moves along s, turns, crosses back.
+            const double te = find_root(dw_fn, 0.0, tau, s);
+            t_event = find_root(w_fn, te, tau, s);
+        }
+        event = 1;
+    } else if (s * dw0 < 0.0 && s * dw1 > 0.0) {
+        // One minimum of s w inside: does it dip below 0?
+        const double te = find_root(dw_fn, 0.0, tau, -s);
+        if (s * eval(te)(1) <= 0.0) {
+            t_event = find_root(w_fn, 0.0, te, s);
+            event = 1;
+        }
+    }
+    if (open) {
+        // Through the diodes |I| falls monotonically (|K_a w| < clamp).
+        const double si = sgn(x0(0));
+        const Eigen::Vector2d xe = event ? eval(t_event) : x1;
+        if (si * xe(0) <= 0.0) {
+            auto i_fn = [&](double tt) {
+                const Eigen::Vector2d xx = eval(tt);
+                const Eigen::Vector2d dx = a_ * xx + b;
+                return std::pair<double, double>{xx(0), dx(0)};
+            };
+            t_event = find_root(i_fn, 0.0, t_event, si);
+            event = 2;
+        }
+    }
+    return MovingEvent{t_event, event};
+}
+
+/// The moving regime: the linear system in closed form, up to `tau_s` or its first event.
+MotorStepper::SegmentOutcome MotorStepper::moving_segment(const DcMotorState& x, const MotorTerminal& u,
+                                                          double tau_s, bool last, MotorSegment& seg) {
+    const bool open = u.kind == MotorTerminal::Kind::open;
+    const double l = p_.inductance_H;
+    const double tc = p_.coulomb_friction_N_m;
+    const double jm = p_.inertia_kg_m2;
+    double tau = tau_s;
+    DcMotorState end = x;
+    const double v = effective_voltage(x, u);
+    const double s = moving_sign(x, u);
+    const Eigen::Vector2d b(v / l, -s * tc / jm);
+    seg.x_ss = -(a_inv_ * b);
+    const Eigen::Vector2d x0(x.current_A, x.speed_rad_s);
+    const Eigen::Vector2d d0 = x0 - seg.x_ss;
+    if (!last) tau = std::min(tau, max_segment_s_);
+    const CacheEntry& c0 = cached(tau);
+    Eigen::Vector2d x1 = seg.x_ss + c0.e * d0;
+    Eigen::Matrix2d g = c0.g;
+    MovingEvent ev{tau, 0};
+    if (!last) ev = moving_event(seg, x0, x1, b, s, tau, open);
+    if (ev.kind != 0) {
+        tau = ev.t_s;
+        const Eigen::Matrix2d e = transition(tau);
+        x1 = seg.x_ss + e * d0;
+        g = a_inv_ * (e - Eigen::Matrix2d::Identity());
+    }
+    const Eigen::Vector2d integral = seg.x_ss * tau + g * d0;
+    end.current_A = x1(0);
+    end.speed_rad_s = x1(1);
+    end.angle_rad = x.angle_rad + integral(1);
+    if (ev.kind == 1) end.speed_rad_s = 0.0;
+    if (ev.kind == 2) end.current_A = 0.0;
+    return SegmentOutcome{tau, end, integral(0), false};
+}
+
+/// The stuck regime (w = 0): L_a dI/dt = V - R_a I, first order towards
+/// I_ss = V / R_a, up to `tau_s` or the current that breaks the friction away
+/// (or, bridge off, that decays to 0).
+MotorStepper::SegmentOutcome MotorStepper::stuck_segment(const DcMotorState& x, const MotorTerminal& u,
+                                                         double tau_s, bool last, MotorSegment& seg) const {
+    const bool open = u.kind == MotorTerminal::Kind::open;
+    const double r = r_total_ohm_;
+    const double l = p_.inductance_H;
+    const double kt = p_.torque_N_m_per_A;
+    const double tc = p_.coulomb_friction_N_m;
+    double tau = tau_s;
+    DcMotorState end = x;
+    const double v = effective_voltage(x, u);
+    const double i_ss = v / r;
+    seg.x_ss = Eigen::Vector2d(i_ss, 0.0);
+    const double i0 = x.current_A;
+    const double rate = r / l;
+    double target = 0.0;
+    int event = 0;
+    if (!last && i0 != i_ss) {
+        const double i_break = sgn(i_ss) * tc / kt;
+        if (!open && std::abs(i_ss) > tc / kt) {
+            target = i_break;
+            event = 1;
+        } else if (open) {
+            target = 0.0;  // decays to 0 through the diodes, then opens
+            event = 2;
+        }
+    }
+    if (event != 0) {
+        // i(t) = i_ss + (i0 - i_ss) e^{-rate t} = target
+        const double ratio = (target - i_ss) / (i0 - i_ss);
+        const double t_hit = ratio > 0.0 && ratio <= 1.0 ? -std::log(ratio) / rate
+                                                         : std::numeric_limits<double>::infinity();
+        if (t_hit <= tau) {
+            tau = t_hit;
+        } else {
+            event = 0;
+        }
+    }
+    const double k = std::exp(-rate * tau);
+    end.current_A = event != 0 ? target : i_ss + (i0 - i_ss) * k;
+    const double charge = i_ss * tau + (i0 - i_ss) * (-std::expm1(-rate * tau)) / rate;
+    return SegmentOutcome{tau, end, charge, event == 1};
+}
+
 void MotorStepper::advance(DcMotorState& x, const MotorTerminal& u, double h,
                            MotorStepResult& out) {
     out.segment_count = 0;
     out.charge_C = 0.0;
     out.supply_charge_C = 0.0;
     configure(u.series_resistance_ohm);
-    const bool open = u.kind == MotorTerminal::Kind::open;
-    const double r = r_total_ohm_;
-    const double l = p_.inductance_H;
-    const double kt = p_.torque_N_m_per_A;
-    const double tc = p_.coulomb_friction_N_m;
-    const double jm = p_.inertia_kg_m2;
 
     double t = 0.0;
     bool force_moving = false;
@@ -213,135 +350,28 @@ void MotorStepper::advance(DcMotorState& x, const MotorTerminal& u, double h,
         seg.start = x;
         seg.regime = force_moving ? MotorRegime::moving : classify(x, u);
         force_moving = false;
-        double tau = remaining;
-        double charge = 0.0;  // integral of I over the segment
-        DcMotorState end = x;
+        SegmentOutcome o{remaining, x, 0.0, false};
 
         switch (seg.regime) {
-            case MotorRegime::moving: {
-                const double v = effective_voltage(x, u);
-                const double s = moving_sign(x, u);
-                const Eigen::Vector2d b(v / l, -s * tc / jm);
-                seg.x_ss = -(a_inv_ * b);
-                const Eigen::Vector2d x0(x.current_A, x.speed_rad_s);
-                const Eigen::Vector2d d0 = x0 - seg.x_ss;
-                if (!last) tau = std::min(tau, max_segment_s_);
-                auto eval = [&](double tt) -> Eigen::Vector2d {
-                    return seg.x_ss + transition(tt) * d0;
-                };
-                const CacheEntry& c0 = cached(tau);
-                Eigen::Vector2d x1 = seg.x_ss + c0.e * d0;
-                Eigen::Matrix2d g = c0.g;
-                // --- events -------------------------------------------------
-                double t_event = tau;
-                int event = 0;  // 1: w reaches 0, 2: I reaches 0 (bridge off)
-                if (!last) {
-                    // g(t) = s w(t) starts >= 0; find its first downward zero.
-                    auto w_fn = [&](double tt) {
-                        const Eigen::Vector2d xx = eval(tt);
-                        const Eigen::Vector2d dx = a_ * xx + b;
-                        return std::pair<double, double>{xx(1), dx(1)};
-                    };
-                    auto dw_fn = [&](double tt) {
-                        const Eigen::Vector2d xx = eval(tt);
-                        const Eigen::Vector2d dx = a_ * xx + b;
-                        const Eigen::Vector2d ddx = a_ * dx;
-                        return std::pair<double, double>{dx(1), ddx(1)};
-                    };
-                    const double dw0 = (a_ * x0 + b)(1);
-                    const double dw1 = (a_ * x1 + b)(1);
-                    if (s * x1(1) <= 0.0) {
-                        if (x0(1) != 0.0) {
-                            t_event = find_root(w_fn, 0.0, tau, s);
-                        } else {
-                            // Starts at rest: it first moves along s, turns, crosses back.
-                            const double te = find_root(dw_fn, 0.0, tau, s);
-                            t_event = find_root(w_fn, te, tau, s);
-                        }
-                        event = 1;
-                    } else if (s * dw0 < 0.0 && s * dw1 > 0.0) {
-                        // One minimum of s w inside: does it dip below 0?
-                        const double te = find_root(dw_fn, 0.0, tau, -s);
-                        if (s * eval(te)(1) <= 0.0) {
-                            t_event = find_root(w_fn, 0.0, te, s);
-                            event = 1;
-                        }
-                    }
-                    if (open) {
-                        // Through the diodes |I| falls monotonically (|K_a w| < clamp).
-                        const double si = sgn(x0(0));
-                        const Eigen::Vector2d xe = event ? eval(t_event) : x1;
-                        if (si * xe(0) <= 0.0) {
-                            auto i_fn = [&](double tt) {
-                                const Eigen::Vector2d xx = eval(tt);
-                                const Eigen::Vector2d dx = a_ * xx + b;
-                                return std::pair<double, double>{xx(0), dx(0)};
-                            };
-                            t_event = find_root(i_fn, 0.0, t_event, si);
-                            event = 2;
-                        }
-                    }
-                }
-                if (event != 0) {
-                    tau = t_event;
-                    const Eigen::Matrix2d e = transition(tau);
-                    x1 = seg.x_ss + e * d0;
-                    g = a_inv_ * (e - Eigen::Matrix2d::Identity());
-                }
-                const Eigen::Vector2d integral = seg.x_ss * tau + g * d0;
-                end.current_A = x1(0);
-                end.speed_rad_s = x1(1);
-                end.angle_rad = x.angle_rad + integral(1);
-                if (event == 1) end.speed_rad_s = 0.0;
-                if (event == 2) end.current_A = 0.0;
-                charge = integral(0);
+            case MotorRegime::moving:
+                o = moving_segment(x, u, remaining, last, seg);
                 break;
-            }
-            case MotorRegime::stuck: {
-                // w = 0: L_a dI/dt = V - R_a I, first order towards I_ss = V / R_a.
-                const double v = effective_voltage(x, u);
-                const double i_ss = v / r;
-                seg.x_ss = Eigen::Vector2d(i_ss, 0.0);
-                const double i0 = x.current_A;
-                const double rate = r / l;
-                double target = 0.0;
-                int event = 0;
-                if (!last && i0 != i_ss) {
-                    const double i_break = sgn(i_ss) * tc / kt;
-                    if (!open && std::abs(i_ss) > tc / kt) {
-                        target = i_break;
-                        event = 1;
-                    } else if (open) {
-                        target = 0.0;  // decays to 0 through the diodes, then opens
-                        event = 2;
-                    }
-                }
-                if (event != 0) {
-                    // i(t) = i_ss + (i0 - i_ss) e^{-rate t} = target
-                    const double ratio = (target - i_ss) / (i0 - i_ss);
-                    const double t_hit = ratio > 0.0 && ratio <= 1.0 ? -std::log(ratio) / rate
-                                                                     : std::numeric_limits<double>::infinity();
-                    if (t_hit <= tau) {
-                        tau = t_hit;
-                    } else {
-                        event = 0;
-                    }
-                }
-                const double k = std::exp(-rate * tau);
-                end.current_A = event != 0 ? target : i_ss + (i0 - i_ss) * k;
-                charge = i_ss * tau + (i0 - i_ss) * (-std::expm1(-rate * tau)) / rate;
-                if (event == 1) force_moving = true;
+            case MotorRegime::stuck:
+                o = stuck_segment(x, u, remaining, last, seg);
+                force_moving = o.force_moving;
                 break;
-            }
             case MotorRegime::coasting: {
-                coast(x, tau, seg);
-                tau = seg.duration_s;
-                end = seg.end;
+                coast(x, remaining, seg);
+                o.tau_s = seg.duration_s;
+                o.end = seg.end;
                 break;
             }
             case MotorRegime::stopped:
                 break;
         }
+        const double tau = o.tau_s;
+        const double charge = o.charge_C;
+        const DcMotorState end = o.end;
         seg.duration_s = tau;
         seg.end = end;
         out.charge_C += charge;

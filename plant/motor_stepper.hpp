@@ -103,6 +103,26 @@ class MotorStepper {
     const CoastEntry& coast_decay(double h);
     /// Rebuilds A and its closed-form data for R = R_a + series_R (when it changes).
     void configure(double series_resistance_ohm);
+    /// One segment of advance(): its length (an event may end it early), the
+    /// state at its end, the charge that flowed (the integral of I), and
+    /// whether the next segment must move (the current broke the friction away).
+    struct SegmentOutcome {
+        double tau_s;
+        DcMotorState end;
+        double charge_C;
+        bool force_moving;
+    };
+    struct MovingEvent {
+        double t_s;
+        int kind;  ///< 0: none, 1: w reaches 0, 2: I reaches 0 (bridge off)
+    };
+    SegmentOutcome moving_segment(const DcMotorState& x, const MotorTerminal& u, double tau_s, bool last,
+                                  MotorSegment& seg);
+    [[nodiscard]] MovingEvent moving_event(const MotorSegment& seg, const Eigen::Vector2d& x0,
+                                           const Eigen::Vector2d& x1, const Eigen::Vector2d& b, double s,
+                                           double tau_s, bool open) const;
+    SegmentOutcome stuck_segment(const DcMotorState& x, const MotorTerminal& u, double tau_s, bool last,
+                                 MotorSegment& seg) const;
     MotorRegime classify(const DcMotorState& x, const MotorTerminal& u) const;
     double effective_voltage(const DcMotorState& x, const MotorTerminal& u) const;
     double moving_sign(const DcMotorState& x, const MotorTerminal& u) const;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "calibrate/calibration.hpp"
+#include "calibrate_hil_check.hpp"
 #include "common/atomic_file.hpp"
 #include "common/svg_xy_plot.hpp"
 #include "exit_codes.hpp"
@@ -199,26 +200,226 @@ std::string score_row(const char* what, const cal::SetScore& s) {
                        s.endpoint_m * 1e3, s.endpoint_pct);
 }
 
-/// The HIL's own dump against a log: the distance between the decoded tracks.
-struct HilMatch {
-    double rms_m = 0.0, max_m = 0.0, endpoint_m = 0.0;
-    std::size_t samples = 0;
+/// Refuses a log given twice (a held-out log that is also fitted, above all).
+void check_logs_distinct(const CalibrateCli& o) {
+    std::vector<std::string> given = o.logs;
+    given.insert(given.end(), o.holdout.begin(), o.holdout.end());
+    std::vector<fs::path> seen;
+    for (std::size_t i = 0; i < given.size(); ++i) {
+        const fs::path c = fs::weakly_canonical(log_file(given[i]));
+        const auto first = std::find(seen.begin(), seen.end(), c);
+        if (first != seen.end()) {
+            const bool held_out = i >= o.logs.size() && static_cast<std::size_t>(first - seen.begin()) < o.logs.size();
+            throw std::invalid_argument(fmt::format("{}: given twice{}", given[i],
+                                                    held_out ? " (a held-out log must not be a fitted one)" : ""));
+        }
+        seen.push_back(c);
+    }
+}
+
+/// Every log as long as its case's run (one sample per 0.1 s).
+void check_log_lengths(const std::vector<cal::RobotLog>& all, int case_number) {
+    // The simulation is as long as the dump; a cut dump (fewer lines than
+    // the case logs) would be compared with the totals of the whole run.
+    const auto expected = static_cast<std::size_t>(std::lround(hostsim::firmware_case(case_number).duration_s * 10.0));
+    for (const cal::RobotLog& l : all) {
+        if (l.samples.size() != expected) {
+            throw std::invalid_argument(fmt::format("{}: {} logged samples; case {} logs {} (one per 0.1 s): is the dump "
+                                                    "cut short?",
+                                                    l.source, l.samples.size(), case_number, expected));
+        }
+    }
+}
+
+/// Removes what an earlier calibration left in `out` and this one would not replace.
+void remove_stale_outputs(const fs::path& out) {
+    for (const auto& e : fs::directory_iterator(out)) {
+        const std::string name = e.path().filename().string();
+        if ((name.rfind("xy_", 0) == 0 && e.path().extension() == ".svg") || (name == "hil" && e.is_directory())) {
+            fs::remove_all(e.path());
+        }
+    }
+}
+
+
+/// tracks.csv's text and the plots of each log: logged, before and after.
+struct Tracks {
+    std::string csv;
+    std::vector<std::pair<std::string, std::string>> plots;  // file, role
 };
 
-HilMatch match(const cal::RobotLog& hil, const cal::RobotLog& log) {
-    const auto a = cal::logged_positions(hil);
-    const auto b = cal::logged_positions(log);
-    HilMatch m;
-    m.samples = std::min(a.size(), b.size());
-    double sq = 0.0;
-    for (std::size_t k = 0; k < m.samples; ++k) {
-        const double d = std::hypot(a[k].first - b[k].first, a[k].second - b[k].second);
-        sq += d * d;
-        m.max_m = std::max(m.max_m, d);
-        m.endpoint_m = d;
+/// Writes each log's plot (xy_N_NAME.svg) in `out`; returns them with tracks.csv's text.
+Tracks write_track_plots(const CalibrateCli& o, const cal::CalibrationSetup& setup, const cal::CalibrationResult& r,
+                         const fs::path& out) {
+    Tracks t;
+    t.csv = "log,sample,logged_x_m,logged_y_m,before_x_m,before_y_m,after_x_m,after_y_m\n";
+    const auto plot_log = [&](const cal::RobotLog& log, const std::string& role, std::size_t index) {
+        const auto logged = cal::logged_positions(log);
+        const auto before = track(setup.start, log, setup.objective);
+        const auto after = track(r.fitted, log, setup.objective);
+        for (std::size_t k = 0; k < logged.size(); ++k) {
+            t.csv += fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", csv_field(log.source), k, logged[k].first,
+                               logged[k].second, before[k].first, before[k].second, after[k].first, after[k].second);
+        }
+        const std::string file = "xy_" + slug(log.source, index) + ".svg";
+        write_file_atomic(out / file, svg_xy_plot(fmt::format("{} ({})", log.source, role),
+                                                   {{"logged (EEPROM)", "#222222", false, true, logged},
+                                                    {"before (starting plant)", "#d62728", true, false, before},
+                                                    {"after (fitted plant)", "#1f77b4", false, false, after}}));
+        t.plots.emplace_back(file, role);
+    };
+    std::size_t index = 0;
+    for (const cal::RobotLog& l : setup.logs) plot_log(l, o.split ? "split: fitted, then judged" : "fitted", index++);
+    for (const cal::RobotLog& l : setup.holdout_logs) plot_log(l, "held out", index++);
+    return t;
+}
+
+/// calibration.json's list of fitted parameters.
+nlohmann::json params_json(const std::vector<cal::FittedParam>& fitted) {
+    nlohmann::json params = nlohmann::json::array();
+    for (const cal::FittedParam& p : fitted) {
+        params.push_back({{"key", p.key},
+                          {"unit", p.unit},
+                          {"start", p.start},
+                          {"value", p.value},
+                          {"search", {p.lo, p.hi}},
+                          {"ci95", p.at_fit.identifiable ? nlohmann::json{p.at_fit.ci_lo, p.at_fit.ci_hi} : nlohmann::json(nullptr)},
+                          {"relative_sd", std::isfinite(p.at_fit.relative_sd) ? nlohmann::json(p.at_fit.relative_sd)
+                                                                               : nlohmann::json(nullptr)},
+                          {"sensitivity_m", p.at_fit.sensitivity_m},
+                          {"identifiable", p.at_fit.identifiable},
+                          {"reason", p.at_fit.reason}});
     }
-    if (m.samples > 0) m.rms_m = std::sqrt(sq / static_cast<double>(m.samples));
-    return m;
+    return params;
+}
+
+/// The correlation matrix of the fitted parameters (null where undefined).
+nlohmann::json correlation_json(const Eigen::MatrixXd& correlation) {
+    nlohmann::json corr = nlohmann::json::array();
+    for (Eigen::Index a = 0; a < correlation.rows(); ++a) {
+        nlohmann::json row = nlohmann::json::array();
+        for (Eigen::Index b = 0; b < correlation.cols(); ++b) {
+            const double c = correlation(a, b);
+            row.push_back(std::isfinite(c) ? nlohmann::json(c) : nlohmann::json(nullptr));
+        }
+        corr.push_back(row);
+    }
+    return corr;
+}
+
+/// The log parts of a set: each log with its first and end sample.
+nlohmann::json names_json(const std::vector<cal::LogRun>& runs) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& run : runs) {
+        a.push_back({{"log", run.log.source},
+                     {"first", run.first},
+                     {"end", run.end == 0 ? run.log.samples.size() : run.end}});
+    }
+    return a;
+}
+
+/// calibration.json, but its HIL confirmation.
+nlohmann::json calibration_json(const CalibrateCli& o, const cal::CalibrationSetup& setup,
+                                const cal::CalibrationResult& r, int case_number) {
+    nlohmann::json j;
+    j["case"] = case_number;
+    j["seed"] = o.seed;
+    j["split"] = o.split ? nlohmann::json(*o.split) : nlohmann::json(nullptr);
+    j["start_plant"] = o.plant.empty() ? "defaults" : o.plant;
+    j["encoder_phases"] = setup.objective.encoder_phases;
+    j["period_s"] = setup.objective.base.period_s;
+    j["logs"] = {{"train", names_json(r.train)}, {"holdout", r.holdout.empty() ? nlohmann::json(nullptr) : names_json(r.holdout)}};
+    j["warnings"] = r.warnings;
+    j["residual_rms_m"] = r.residual_rms_m;
+    j["keys_chosen_by_data"] = o.fit_keys.empty();
+    j["params"] = params_json(r.params);
+    nlohmann::json not_fitted = nlohmann::json::array();
+    for (const auto& [key, why] : r.not_fitted) not_fitted.push_back({{"key", key}, {"reason", why}});
+    j["not_fitted"] = not_fitted;
+    j["singular_values"] = r.identifiability.singular_values;
+    j["correlation"] = correlation_json(r.identifiability.correlation);
+    j["least_squares"] = {{"evaluations", r.least_squares.evaluations}, {"budget", o.lm_evaluations}, {"stop", r.least_squares.stop},
+                          {"sum_of_squares_m2", r.least_squares.sum_of_squares}};
+    j["fit"] = {{"evaluations", r.fit.evaluations}, {"loss", r.fit.loss}, {"global_loss", r.fit.global_loss},
+                {"global_budget", o.global_evaluations}, {"local_budget", o.local_evaluations}};
+    j["train"] = metrics_json(r.after_train);
+    j["holdout"] = r.after_holdout ? metrics_json(*r.after_holdout) : nlohmann::json(nullptr);
+    j["before"] = {{"train", metrics_json(r.before_train)},
+                   {"holdout", r.before_holdout ? metrics_json(*r.before_holdout) : nlohmann::json(nullptr)}};
+    return j;
+}
+
+/// plant.yaml's header: where the fit comes from, and how to use the file.
+std::string plant_yaml_header(const CalibrateCli& o, const cal::CalibrationResult& r, int case_number) {
+    return fmt::format(
+        "# ddmr-hil calibrate: case {} from {}{}\n# start: {}; seed {}; load with --plant\n"
+        "# intervals: 95 % under the log's quantisation, widened to what the host model cannot tell apart "
+        "(docs/calibration.md)\n"
+        "# every value without a comment is the starting plant's: the wheel radii and the axle cannot be "
+        "calibrated from the firmware's log (measure them)\n", case_number,
+        log_names(r.train), r.holdout.empty() ? "" : fmt::format(" (judged on {})", log_names(r.holdout)),
+        o.plant.empty() ? "the embedded defaults" : o.plant, o.seed);
+}
+
+/// report.md: the parameters, the distances before and after, the HIL's, the plots.
+std::string report_md(const cal::CalibrationResult& r, int case_number, const std::string& hil_md,
+                      const std::vector<std::pair<std::string, std::string>>& plots) {
+    std::string md = fmt::format("# Calibration: case {}\n\nFitted on {}.{}\n\n", case_number, log_names(r.train),
+                                 r.holdout.empty() ? " Nothing was held out: the fit is not judged on unseen data."
+                                                   : fmt::format(" Judged on {}.", log_names(r.holdout)));
+    md += "## Parameters\n\n| parameter | start | fitted | 95 % interval | unit | pinned down |\n|---|---|---|---|---|---|\n";
+    for (const cal::FittedParam& p : r.params) {
+        md += fmt::format("| `{}` | {:.6g} | {:.6g} | {} | {} | {} |\n", p.key, p.start, p.value,
+                          p.at_fit.identifiable ? fmt::format("[{:.6g}, {:.6g}]", p.at_fit.ci_lo, p.at_fit.ci_hi) : "—",
+                          p.unit, p.at_fit.identifiable ? "yes" : "no: " + p.at_fit.reason);
+    }
+    if (!r.not_fitted.empty()) {
+        md += "\nNot fitted (the logs cannot pin them down; they keep their start values):\n\n";
+        for (const auto& [key, why] : r.not_fitted) md += fmt::format("- `{}`: {}\n", key, why);
+    }
+    if (!r.warnings.empty()) {
+        md += "\n**Warnings:**\n\n";
+        for (const std::string& w : r.warnings) md += "- " + w + "\n";
+    }
+    md += fmt::format("\nSingular values of the scaled sensitivity matrix: {:.3g}.\n",
+                      fmt::join(r.identifiability.singular_values, ", "));
+    md += "\n## Distance to the logs (host firmware model, mean over the encoder phases)\n\n"
+          "Distances are to each logged sample's 4 mm cell (0 inside it).\n\n"
+          "| plant, part | RMS [mm] | max [mm] | end [mm] | end [% of end vector] |\n|---|---|---|---|---|\n";
+    md += score_row("before, fitted part", r.before_train);
+    md += score_row("after, fitted part", r.after_train);
+    if (r.after_holdout) {
+        md += score_row("before, held out", *r.before_holdout);
+        md += score_row("after, held out", *r.after_holdout);
+    }
+    md += "\n## The HIL with the real firmware on the fitted plant\n\n"
+          "Distances between the decoded tracks of its own dump (`hil/uart.txt`) and each log. Both are "
+          "quantised: tracks one cell apart are 4 mm apart.\n\n" + hil_md;
+    md += "\n## Tracks\n\n";
+    for (const auto& [file, role] : plots) md += fmt::format("![{}]({})\n\n", role, file);
+    return md;
+}
+
+/// stdout: the parameters and the scores.
+void print_calibration(const cal::CalibrationResult& r, int case_number) {
+    std::printf("calibrate: case %d, %zu log part(s) fitted, %zu judged; %d + %d evaluations\n", case_number,
+                r.train.size(), r.holdout.size(), r.least_squares.evaluations, r.fit.evaluations);
+    for (const cal::FittedParam& p : r.params) {
+        if (p.at_fit.identifiable) {
+            std::printf("  %-40s %10.5g -> %-10.5g [%.5g, %.5g] %s\n", p.key.c_str(), p.start, p.value, p.at_fit.ci_lo,
+                        p.at_fit.ci_hi, p.unit);
+        } else {
+            std::printf("  %-40s %10.5g -> %-10.5g not pinned down: %s\n", p.key.c_str(), p.start, p.value,
+                        p.at_fit.reason.c_str());
+        }
+    }
+    for (const auto& [key, why] : r.not_fitted) std::printf("  not fitted: %s: %s\n", key.c_str(), why.c_str());
+    for (const std::string& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
+    std::printf("  fitted part: RMS %.1f mm -> %.1f mm\n", r.before_train.rms_m * 1e3, r.after_train.rms_m * 1e3);
+    if (r.after_holdout) {
+        std::printf("  held out:    RMS %.1f mm -> %.1f mm, end %.2f %% -> %.2f %%\n", r.before_holdout->rms_m * 1e3,
+                    r.after_holdout->rms_m * 1e3, r.before_holdout->endpoint_pct, r.after_holdout->endpoint_pct);
+    }
 }
 
 int run_calibrate(const CalibrateCli& o) {
@@ -237,32 +438,9 @@ int run_calibrate(const CalibrateCli& o) {
     if (o.split && !o.holdout.empty()) throw std::invalid_argument("--split and --hold-out: give one of them");
     std::vector<cal::RobotLog> all = setup.logs;
     all.insert(all.end(), setup.holdout_logs.begin(), setup.holdout_logs.end());
-    {
-        std::vector<std::string> given = o.logs;
-        given.insert(given.end(), o.holdout.begin(), o.holdout.end());
-        std::vector<fs::path> seen;
-        for (std::size_t i = 0; i < given.size(); ++i) {
-            const fs::path c = fs::weakly_canonical(log_file(given[i]));
-            const auto first = std::find(seen.begin(), seen.end(), c);
-            if (first != seen.end()) {
-                const bool held_out = i >= o.logs.size() && static_cast<std::size_t>(first - seen.begin()) < o.logs.size();
-                throw std::invalid_argument(fmt::format("{}: given twice{}", given[i],
-                                                        held_out ? " (a held-out log must not be a fitted one)" : ""));
-            }
-            seen.push_back(c);
-        }
-    }
+    check_logs_distinct(o);
     const int case_number = case_of(o, all);
-    // The simulation is as long as the dump; a cut dump (fewer lines than
-    // the case logs) would be compared with the totals of the whole run.
-    const auto expected = static_cast<std::size_t>(std::lround(hostsim::firmware_case(case_number).duration_s * 10.0));
-    for (const cal::RobotLog& l : all) {
-        if (l.samples.size() != expected) {
-            throw std::invalid_argument(fmt::format("{}: {} logged samples; case {} logs {} (one per 0.1 s): is the dump "
-                                                    "cut short?",
-                                                    l.source, l.samples.size(), case_number, expected));
-        }
-    }
+    check_log_lengths(all, case_number);
     setup.split = o.split;
     if (!o.plant.empty()) setup.start = plant::load_robot_params(o.plant);
     setup.keys = o.fit_keys;
@@ -305,225 +483,28 @@ int run_calibrate(const CalibrateCli& o) {
 
     const cal::CalibrationResult r = cal::calibrate(setup);
     prepare_output_dir(out);
-    // What an earlier calibration left here and this one would not replace.
-    for (const auto& e : fs::directory_iterator(out)) {
-        const std::string name = e.path().filename().string();
-        if ((name.rfind("xy_", 0) == 0 && e.path().extension() == ".svg") || (name == "hil" && e.is_directory())) {
-            fs::remove_all(e.path());
-        }
-    }
+    remove_stale_outputs(out);
 
     // The tracks, for the plots and tracks.csv.
     say("tracks for the plots");
-    std::string csv = "log,sample,logged_x_m,logged_y_m,before_x_m,before_y_m,after_x_m,after_y_m\n";
-    std::vector<std::pair<std::string, std::string>> plots;  // file, role
-    const auto plot_log = [&](const cal::RobotLog& log, const std::string& role, std::size_t index) {
-        const auto logged = cal::logged_positions(log);
-        const auto before = track(setup.start, log, setup.objective);
-        const auto after = track(r.fitted, log, setup.objective);
-        for (std::size_t k = 0; k < logged.size(); ++k) {
-            csv += fmt::format("{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n", csv_field(log.source), k, logged[k].first,
-                               logged[k].second, before[k].first, before[k].second, after[k].first, after[k].second);
-        }
-        const std::string file = "xy_" + slug(log.source, index) + ".svg";
-        write_file_atomic(out / file, svg_xy_plot(fmt::format("{} ({})", log.source, role),
-                                                   {{"logged (EEPROM)", "#222222", false, true, logged},
-                                                    {"before (starting plant)", "#d62728", true, false, before},
-                                                    {"after (fitted plant)", "#1f77b4", false, false, after}}));
-        plots.emplace_back(file, role);
-    };
-    std::size_t index = 0;
-    for (const cal::RobotLog& l : setup.logs) plot_log(l, o.split ? "split: fitted, then judged" : "fitted", index++);
-    for (const cal::RobotLog& l : setup.holdout_logs) plot_log(l, "held out", index++);
+    const Tracks tracks = write_track_plots(o, setup, r, out);
 
-    nlohmann::json j;
-    j["case"] = case_number;
-    j["seed"] = o.seed;
-    j["split"] = o.split ? nlohmann::json(*o.split) : nlohmann::json(nullptr);
-    j["start_plant"] = o.plant.empty() ? "defaults" : o.plant;
-    j["encoder_phases"] = setup.objective.encoder_phases;
-    j["period_s"] = setup.objective.base.period_s;
-    const auto names_json = [](const std::vector<cal::LogRun>& runs) {
-        nlohmann::json a = nlohmann::json::array();
-        for (const auto& run : runs) {
-            a.push_back({{"log", run.log.source},
-                         {"first", run.first},
-                         {"end", run.end == 0 ? run.log.samples.size() : run.end}});
-        }
-        return a;
-    };
-    j["logs"] = {{"train", names_json(r.train)}, {"holdout", r.holdout.empty() ? nlohmann::json(nullptr) : names_json(r.holdout)}};
-    j["warnings"] = r.warnings;
-    j["residual_rms_m"] = r.residual_rms_m;
-    j["keys_chosen_by_data"] = o.fit_keys.empty();
-    nlohmann::json params = nlohmann::json::array();
-    for (const cal::FittedParam& p : r.params) {
-        params.push_back({{"key", p.key},
-                          {"unit", p.unit},
-                          {"start", p.start},
-                          {"value", p.value},
-                          {"search", {p.lo, p.hi}},
-                          {"ci95", p.at_fit.identifiable ? nlohmann::json{p.at_fit.ci_lo, p.at_fit.ci_hi} : nlohmann::json(nullptr)},
-                          {"relative_sd", std::isfinite(p.at_fit.relative_sd) ? nlohmann::json(p.at_fit.relative_sd)
-                                                                               : nlohmann::json(nullptr)},
-                          {"sensitivity_m", p.at_fit.sensitivity_m},
-                          {"identifiable", p.at_fit.identifiable},
-                          {"reason", p.at_fit.reason}});
-    }
-    j["params"] = params;
-    nlohmann::json not_fitted = nlohmann::json::array();
-    for (const auto& [key, why] : r.not_fitted) not_fitted.push_back({{"key", key}, {"reason", why}});
-    j["not_fitted"] = not_fitted;
-    j["singular_values"] = r.identifiability.singular_values;
-    nlohmann::json corr = nlohmann::json::array();
-    for (Eigen::Index a = 0; a < r.identifiability.correlation.rows(); ++a) {
-        nlohmann::json row = nlohmann::json::array();
-        for (Eigen::Index b = 0; b < r.identifiability.correlation.cols(); ++b) {
-            const double c = r.identifiability.correlation(a, b);
-            row.push_back(std::isfinite(c) ? nlohmann::json(c) : nlohmann::json(nullptr));
-        }
-        corr.push_back(row);
-    }
-    j["correlation"] = corr;
-    j["least_squares"] = {{"evaluations", r.least_squares.evaluations}, {"budget", o.lm_evaluations}, {"stop", r.least_squares.stop},
-                          {"sum_of_squares_m2", r.least_squares.sum_of_squares}};
-    j["fit"] = {{"evaluations", r.fit.evaluations}, {"loss", r.fit.loss}, {"global_loss", r.fit.global_loss},
-                {"global_budget", o.global_evaluations}, {"local_budget", o.local_evaluations}};
-    j["train"] = metrics_json(r.after_train);
-    j["holdout"] = r.after_holdout ? metrics_json(*r.after_holdout) : nlohmann::json(nullptr);
-    j["before"] = {{"train", metrics_json(r.before_train)},
-                   {"holdout", r.before_holdout ? metrics_json(*r.before_holdout) : nlohmann::json(nullptr)}};
-
-    const std::string header = fmt::format(
-        "# ddmr-hil calibrate: case {} from {}{}\n# start: {}; seed {}; load with --plant\n"
-        "# intervals: 95 % under the log's quantisation, widened to what the host model cannot tell apart "
-        "(docs/calibration.md)\n"
-        "# every value without a comment is the starting plant's: the wheel radii and the axle cannot be "
-        "calibrated from the firmware's log (measure them)\n", case_number,
-        log_names(r.train), r.holdout.empty() ? "" : fmt::format(" (judged on {})", log_names(r.holdout)),
-        o.plant.empty() ? "the embedded defaults" : o.plant, o.seed);
-    write_file_atomic(out / "plant.yaml", plant_yaml(r, header));
+    nlohmann::json j = calibration_json(o, setup, r, case_number);
+    write_file_atomic(out / "plant.yaml", plant_yaml(r, plant_yaml_header(o, r, case_number)));
 
     // The HIL with the real firmware on the fitted plant.
-    int exit_code = kExitOk;
-    std::string hil_md;
-    std::string hil_summary;
-    std::vector<std::string> hil_lines;
-    if (o.no_hil) {
-        j["hil"] = nullptr;
-        hil_md = "Not run (`--no-hil`).\n";
-    } else {
-        say("confirming in the HIL (the real firmware on the fitted plant)");
-        FirmwareRunOptions fo;
-        fo.firmware = o.firmware;
-        fo.contract = DDMR_DEFAULT_CONTRACT;
-        fo.test_case = case_number;
-        fo.case_given = true;
-        fo.reference_protocol_required = true;
-        fo.plant_file = out / "plant.yaml";
-        fo.out_dir = out / "hil";
-        FirmwareRunResult run;
-        std::string failure;
-        std::optional<cal::RobotLog> hil_read;
-        try {
-            run = run_firmware(fo);
-            if (run.exit != RunExit::kReportComplete) {
-                failure = run.message;
-            } else {
-                hil_read = cal::read_robot_log(out / "hil" / "uart.txt");
-            }
-        } catch (const std::exception& e) {
-            failure = e.what();  // the fit's outputs are still written below
-        }
-        nlohmann::json h = {{"exit", failure.empty() ? to_string(run.exit) : "error"}, {"folder", "hil"}};
-        if (!failure.empty()) {
-            run.message = failure;
-            exit_code = kExitFirmware;
-            h["message"] = run.message;
-            hil_md = fmt::format("The HIL run did not complete: {}\n", run.message);
-            std::fprintf(stderr, "ddmr-hil calibrate: the HIL confirmation failed: %s\n", run.message.c_str());
-        } else {
-            const cal::RobotLog& hil_log = *hil_read;
-            nlohmann::json per = nlohmann::json::array();
-            hil_md = "| log | RMS [mm] | max [mm] | end [mm] | Count1 HIL / log | Count2 HIL / log |\n|---|---|---|---|---|---|\n";
-            for (const cal::RobotLog& l : all) {
-                const HilMatch m = match(hil_log, l);
-                hil_lines.push_back(fmt::format("{:.1f} mm RMS to {}", m.rms_m * 1e3, l.source));
-                per.push_back({{"log", l.source}, {"rms_m", m.rms_m}, {"max_m", m.max_m}, {"endpoint_m", m.endpoint_m},
-                               {"samples", m.samples}});
-                hil_md += fmt::format("| {} | {:.1f} | {:.1f} | {:.1f} | {} / {} | {} / {} |\n", l.source, m.rms_m * 1e3,
-                                      m.max_m * 1e3, m.endpoint_m * 1e3, hil_log.count1, l.count1, hil_log.count2,
-                                      l.count2);
-            }
-            hil_summary = fmt::format("  HIL (the real firmware on the fitted plant): {}", fmt::join(hil_lines, "; "));
-            h["count1"] = hil_log.count1;
-            h["count2"] = hil_log.count2;
-            h["logs"] = per;
-        }
-        j["hil"] = h;
-    }
-    write_file_atomic(out / "tracks.csv", csv);
+    const HilConfirmation hil =
+        confirm_in_hil(o.no_hil ? std::nullopt : std::optional<std::string>(o.firmware), all, case_number, out, say);
+    j["hil"] = hil.json;
+    write_file_atomic(out / "tracks.csv", tracks.csv);
     write_file_atomic(out / "calibration.json", j.dump(2) + "\n");
 
-    // report.md
-    std::string md = fmt::format("# Calibration: case {}\n\nFitted on {}.{}\n\n", case_number, log_names(r.train),
-                                 r.holdout.empty() ? " Nothing was held out: the fit is not judged on unseen data."
-                                                   : fmt::format(" Judged on {}.", log_names(r.holdout)));
-    md += "## Parameters\n\n| parameter | start | fitted | 95 % interval | unit | pinned down |\n|---|---|---|---|---|---|\n";
-    for (const cal::FittedParam& p : r.params) {
-        md += fmt::format("| `{}` | {:.6g} | {:.6g} | {} | {} | {} |\n", p.key, p.start, p.value,
-                          p.at_fit.identifiable ? fmt::format("[{:.6g}, {:.6g}]", p.at_fit.ci_lo, p.at_fit.ci_hi) : "—",
-                          p.unit, p.at_fit.identifiable ? "yes" : "no: " + p.at_fit.reason);
-    }
-    if (!r.not_fitted.empty()) {
-        md += "\nNot fitted (the logs cannot pin them down; they keep their start values):\n\n";
-        for (const auto& [key, why] : r.not_fitted) md += fmt::format("- `{}`: {}\n", key, why);
-    }
-    if (!r.warnings.empty()) {
-        md += "\n**Warnings:**\n\n";
-        for (const std::string& w : r.warnings) md += "- " + w + "\n";
-    }
-    md += fmt::format("\nSingular values of the scaled sensitivity matrix: {:.3g}.\n",
-                      fmt::join(r.identifiability.singular_values, ", "));
-    md += "\n## Distance to the logs (host firmware model, mean over the encoder phases)\n\n"
-          "Distances are to each logged sample's 4 mm cell (0 inside it).\n\n"
-          "| plant, part | RMS [mm] | max [mm] | end [mm] | end [% of end vector] |\n|---|---|---|---|---|\n";
-    md += score_row("before, fitted part", r.before_train);
-    md += score_row("after, fitted part", r.after_train);
-    if (r.after_holdout) {
-        md += score_row("before, held out", *r.before_holdout);
-        md += score_row("after, held out", *r.after_holdout);
-    }
-    md += "\n## The HIL with the real firmware on the fitted plant\n\n"
-          "Distances between the decoded tracks of its own dump (`hil/uart.txt`) and each log. Both are "
-          "quantised: tracks one cell apart are 4 mm apart.\n\n" + hil_md;
-    md += "\n## Tracks\n\n";
-    for (const auto& [file, role] : plots) md += fmt::format("![{}]({})\n\n", role, file);
-    write_file_atomic(out / "report.md", md);
-
-    // stdout: the parameters and the scores.
-    std::printf("calibrate: case %d, %zu log part(s) fitted, %zu judged; %d + %d evaluations\n", case_number,
-                r.train.size(), r.holdout.size(), r.least_squares.evaluations, r.fit.evaluations);
-    for (const cal::FittedParam& p : r.params) {
-        if (p.at_fit.identifiable) {
-            std::printf("  %-40s %10.5g -> %-10.5g [%.5g, %.5g] %s\n", p.key.c_str(), p.start, p.value, p.at_fit.ci_lo,
-                        p.at_fit.ci_hi, p.unit);
-        } else {
-            std::printf("  %-40s %10.5g -> %-10.5g not pinned down: %s\n", p.key.c_str(), p.start, p.value,
-                        p.at_fit.reason.c_str());
-        }
-    }
-    for (const auto& [key, why] : r.not_fitted) std::printf("  not fitted: %s: %s\n", key.c_str(), why.c_str());
-    for (const std::string& w : r.warnings) std::printf("  warning: %s\n", w.c_str());
-    std::printf("  fitted part: RMS %.1f mm -> %.1f mm\n", r.before_train.rms_m * 1e3, r.after_train.rms_m * 1e3);
-    if (r.after_holdout) {
-        std::printf("  held out:    RMS %.1f mm -> %.1f mm, end %.2f %% -> %.2f %%\n", r.before_holdout->rms_m * 1e3,
-                    r.after_holdout->rms_m * 1e3, r.before_holdout->endpoint_pct, r.after_holdout->endpoint_pct);
-    }
-    if (!hil_summary.empty()) std::printf("%s\n", hil_summary.c_str());
+    write_file_atomic(out / "report.md", report_md(r, case_number, hil.md, tracks.plots));
+    print_calibration(r, case_number);
+    if (!hil.summary.empty()) std::printf("%s\n", hil.summary.c_str());
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     std::printf("  wrote %s/plant.yaml, calibration.json, report.md (%.0f s)\n", out.string().c_str(), wall_s);
-    return exit_code;
+    return hil.exit_code;
 }
 
 }  // namespace

@@ -125,10 +125,144 @@ void print_function_profile(const FirmwareRunResult& r, FILE* out) {
                 r.function_profile_top.c_str());
 }
 
-/// The options `run` and `profile` share, and their action.
-Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
-    cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
-    cli->options.profile = profile_always;
+/// With a loop profile: the iterations' compute time and period, those that
+/// start an EEPROM write apart.
+void print_loop_profile(const FirmwareRunResult& r, FILE* out) {
+    if (r.loop_profile.empty()) return;
+    // Cycles first (what the firmware costs on any clock), then time.
+    // The iterations that start an EEPROM write apart: the write's
+    // wait (3.3 ms per byte after the first) is not the control law's.
+    const auto cyc_us = [&](double cycles) {
+        return fmt::format("{:.0f} cycles ({:.1f} us)", cycles, cycles / r.clock_hz * 1e6);
+    };
+    std::fprintf(out, "loop profile: %zu iterations measured (all but the first, which has no start):\n",
+                r.loop_profile.size());
+    for (const bool eeprom : {false, true}) {
+        hil::Cycles max_compute = 0, max_period = 0, sum_compute = 0, sum_period = 0;
+        std::size_t n = 0;
+        for (const auto& it : r.loop_profile) {
+            if (it.eeprom_write != eeprom) continue;
+            ++n;
+            max_compute = std::max(max_compute, it.compute());
+            max_period = std::max(max_period, it.period());
+            sum_compute += it.compute();
+            sum_period += it.period();
+        }
+        if (n == 0) continue;
+        const double dn = static_cast<double>(n);
+        std::fprintf(out, "  %4zu %-24s compute mean %s, max %s; period mean %.3f ms, max %.3f ms\n", n,
+                    eeprom ? "with an EEPROM write" : "without an EEPROM write",
+                    cyc_us(static_cast<double>(sum_compute) / dn).c_str(),
+                    cyc_us(static_cast<double>(max_compute)).c_str(),
+                    hil::cycles_to_s(sum_period, r.clock_hz) / dn * 1e3,
+                    hil::cycles_to_s(max_period, r.clock_hz) * 1e3);
+    }
+    std::fprintf(out, "  details in loop_profile.csv and summary.json\n");
+    if (r.eeprom_writes > r.eeprom_writes_recorded) {
+        std::fprintf(out, "loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
+                    "the last of them are not tagged eeprom_write\n",
+                    static_cast<unsigned long long>(r.eeprom_writes), r.eeprom_writes_recorded);
+    }
+}
+
+/// A run that ended at its time limit (any firmware but one with a complete
+/// report): the plant's truth and what the firmware sent.
+void print_time_limit(const FirmwareRunOptions& o, const FirmwareRunResult& r, FILE* out) {
+    const std::string uart_txt =
+        o.baud ? fmt::format("uart.txt: what the adapter at {} baud decoded", *o.baud) : "all in uart.txt";
+    std::fprintf(out, "plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; encoder edges %llu / %llu (lost "
+                "%llu / %llu); %llu bytes sent on %s (%s)\n",
+                r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
+                static_cast<unsigned long long>(r.encoder[0].edges_injected),
+                static_cast<unsigned long long>(r.encoder[1].edges_injected),
+                static_cast<unsigned long long>(r.encoder[0].lost_edges),
+                static_cast<unsigned long long>(r.encoder[1].lost_edges),
+                static_cast<unsigned long long>(r.uart_bytes), o.serial_port.c_str(), uart_txt.c_str());
+    print_function_profile(r, out);
+}
+
+/// What `run` prints of a run, and its exit code.
+int print_run_result(const FirmwareRunOptions& o, const FirmwareRunResult& r) {
+    // With --unity stdout carries the firmware's Unity output only (pio test parses it).
+    FILE* out = o.unity ? stderr : stdout;
+    const double sim_s = hil::cycles_to_s(r.cycles_total, r.clock_hz);
+    std::fprintf(out, "%s: %s after %.3f simulated s (%llu cycles) in %.2f s wall, %.1f Mcycles/s\n",
+                o.out_dir.c_str(), to_string(r.exit), sim_s,
+                static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
+                r.wall_seconds > 0 ? static_cast<double>(r.cycles_total) / r.wall_seconds / 1e6 : 0.0);
+    if (r.exit == RunExit::kTimeLimit) {
+        print_time_limit(o, r, out);
+        return kExitOk;
+    }
+    if (r.exit != RunExit::kReportComplete) {
+        std::fprintf(stderr, "ddmr-hil run: %s\n", r.message.c_str());
+        return kExitFirmware;
+    }
+    if (r.unity) {
+        std::fprintf(stderr, "Unity: %u tests, %u failures, %u ignored: %s\n", r.unity->tests, r.unity->failures,
+                     r.unity->ignored, r.unity->ok ? "OK" : "FAIL");
+        return r.unity->ok ? kExitOk : kExitCheckFailed;
+    }
+    const auto& rep = r.report;
+    if (r.has_report) {
+        // The report's dump has one line more than the log has samples
+        // (its last line, j = addr, is a byte the run never wrote).
+        std::fprintf(out, "firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
+                    "theta %.4f rad, %zu EEPROM log samples\n",
+                    rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
+                    rep.ey.value_or(0), rep.theta.value_or(0), r.eeprom_log_samples);
+    } else if (r.end_pose_firmware) {
+        std::fprintf(out, "firmware pose estimate: (%.4f, %.4f) m, theta %.4f rad; %zu EEPROM log samples\n",
+                    r.end_pose_firmware->x_m, r.end_pose_firmware->y_m, r.end_pose_firmware->theta_rad,
+                    r.eeprom_log_samples);
+    }
+    std::fprintf(out, "plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; %llu loop iterations, "
+                "mean period %.3f ms; lost encoder edges %llu / %llu\n",
+                r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
+                static_cast<unsigned long long>(r.loop_iterations), r.mean_loop_period_s * 1e3,
+                static_cast<unsigned long long>(r.encoder[0].lost_edges),
+                static_cast<unsigned long long>(r.encoder[1].lost_edges));
+    print_loop_profile(r, out);
+    print_function_profile(r, out);
+    return kExitOk;
+}
+
+/// The run's options from the command line's (`profile_always`: the profile command).
+FirmwareRunOptions run_options(const RunCli& cli, bool profile_always) {
+    FirmwareRunOptions o = cli.options;
+    o.instruments = {!cli.no_isr_monitor, !cli.no_stack_guard, !cli.no_race_detector};
+    resolve_firmware(cli, o);
+    o.out_dir = cli.out_dir.empty()
+                    ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
+                    : cli.out_dir;
+    if (!cli.eeprom_preload.empty()) o.eeprom_preload = cli.eeprom_preload;
+    if (cli.baud != 0) o.baud = cli.baud;
+    o.case_given = cli.case_option->count() > 0;
+    o.ready_symbol_given = cli.ready_option->count() > 0;
+    o.reference_protocol_required = o.case_given || o.ready_symbol_given;
+    if (!cli.contract.empty()) {
+        o.contract = cli.contract;
+    } else if (fs::exists(o.firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) &&
+               fs::equivalent(o.firmware, DDMR_DEFAULT_FIRMWARE)) {
+        o.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract
+    }
+    o.loop_mark_given = cli.loop_mark_option->count() > 0;
+    for (const std::string& spec : cli.sends) o.sends.push_back(parse_send(spec));
+    o.uart_timing = cli.uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
+    if (!cli.plant_file.empty()) o.plant_file = cli.plant_file;
+    if (!cli.board_file.empty()) o.board_file = cli.board_file;
+    if (!cli.board_name.empty()) o.board_name = hil::parse_board_key(cli.board_name);
+    if (!cli.vcd.empty()) o.vcd = cli.vcd;
+    o.pwm = cli.pwm == "averaged" ? plant::DriveMode::averaged : plant::DriveMode::switched;
+    o.eeprom_timing = cli.eeprom_timing == "instant" ? hil::EepromTimingMode::kInstant
+                                                      : hil::EepromTimingMode::kDatasheet;
+    o.progress = !cli.quiet && (cli.progress || ::isatty(STDERR_FILENO) != 0);
+    if (cli.gdb_port != 0) o.gdb_port = static_cast<uint16_t>(cli.gdb_port);
+    return o;
+}
+
+/// The firmware to run and how: an ELF, a sketch, a PlatformIO project; Unity; the contract.
+void add_firmware_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
     cli->firmware_option = sub->add_option("--firmware", cli->options.firmware,
                     "Firmware ELF for the board's MCU (the ATmega328P on the default Uno)")
         ->capture_default_str();
@@ -152,6 +286,10 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "complete, its report, pose, loop and EEPROM log; default: the reference sketch's "
                     "(firmware/ddmr_tracking/hil.yaml) for the reference ELF, none for any other firmware")
         ->check(CLI::ExistingFile);
+}
+
+/// The run itself: the case, its limits, the output folder, the EEPROM, what the host sends.
+void add_run_control_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
     cli->case_option = sub->add_option("--case", cli->options.test_case,
                                        "The contract's {case} in its start text; the reference sketch: 1 = 0.6 m "
                                        "circle in 12 s, 2 = 0.4 m in 8 s")
@@ -184,6 +322,10 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "UART frame time: chip (datasheet, 8N1 = 10 bits) or simavr (1.6's 11 bits)")
         ->check(CLI::IsMember({"chip", "simavr"}))
         ->capture_default_str();
+}
+
+/// What is emulated: the plant, the board and its wiring, the serial port, the PWM and EEPROM models, the coupling step.
+void add_model_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
     sub->add_option("--plant", cli->plant_file,
                     "Plant parameter YAML (over the embedded defaults)");
     sub->add_option("--board", cli->board_file,
@@ -216,10 +358,18 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "Plant step [AVR cycles]: the largest input latency; must divide the 1 ms truth period "
                     "(16000 cycles at 16 MHz) [default: 62.5 us: 1000 cycles at 16 MHz, 500 at 8 MHz]")
         ->check(CLI::Range(hil::Cycles{1}, hil::Cycles{1'000'000}));
+}
+
+/// What the run prints while it runs.
+void add_console_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
     sub->add_flag("--progress", cli->progress, "Print progress every simulated second (default when "
                                                "stderr is a terminal)");
     sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
     sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
+}
+
+/// The instruments: profiler, variable traces, avr-gdb, VCD, ISR monitor, stack guard, race detector.
+void add_instrument_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
     if (!profile_always) {
         sub->add_flag("--profile", cli->options.profile,
                       "Exact control-loop cycle counts (loop_profile.csv) and a profile: per function, call "
@@ -262,125 +412,22 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
                     "(profile.json and profile.txt list all)")
         ->check(CLI::Range(std::size_t{1}, std::size_t{100'000}))
         ->capture_default_str();
+}
+
+/// The options `run` and `profile` share, and their action.
+Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bool profile_always) {
+    cli->options.firmware = DDMR_DEFAULT_FIRMWARE;
+    cli->options.profile = profile_always;
+    add_firmware_options(sub, cli);
+    add_run_control_options(sub, cli);
+    add_model_options(sub, cli);
+    add_console_options(sub, cli);
+    add_instrument_options(sub, cli, profile_always);
 
     return Subcommand{sub, [cli, profile_always]() {
-        FirmwareRunOptions o = cli->options;
-        o.instruments = {!cli->no_isr_monitor, !cli->no_stack_guard, !cli->no_race_detector};
-        resolve_firmware(*cli, o);
-        o.out_dir = cli->out_dir.empty()
-                        ? (o.profile && profile_always ? "out/profile-case" : "out/run-case") + std::to_string(o.test_case)
-                        : cli->out_dir;
-        if (!cli->eeprom_preload.empty()) o.eeprom_preload = cli->eeprom_preload;
-        if (cli->baud != 0) o.baud = cli->baud;
-        o.case_given = cli->case_option->count() > 0;
-        o.ready_symbol_given = cli->ready_option->count() > 0;
-        o.reference_protocol_required = o.case_given || o.ready_symbol_given;
-        if (!cli->contract.empty()) {
-            o.contract = cli->contract;
-        } else if (fs::exists(o.firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) &&
-                   fs::equivalent(o.firmware, DDMR_DEFAULT_FIRMWARE)) {
-            o.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract
-        }
-        o.loop_mark_given = cli->loop_mark_option->count() > 0;
-        for (const std::string& spec : cli->sends) o.sends.push_back(parse_send(spec));
-        o.uart_timing = cli->uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
-        if (!cli->plant_file.empty()) o.plant_file = cli->plant_file;
-        if (!cli->board_file.empty()) o.board_file = cli->board_file;
-        if (!cli->board_name.empty()) o.board_name = hil::parse_board_key(cli->board_name);
-        if (!cli->vcd.empty()) o.vcd = cli->vcd;
-        o.pwm = cli->pwm == "averaged" ? plant::DriveMode::averaged : plant::DriveMode::switched;
-        o.eeprom_timing = cli->eeprom_timing == "instant" ? hil::EepromTimingMode::kInstant
-                                                          : hil::EepromTimingMode::kDatasheet;
-        o.progress = !cli->quiet && (cli->progress || ::isatty(STDERR_FILENO) != 0);
-        if (cli->gdb_port != 0) o.gdb_port = static_cast<uint16_t>(cli->gdb_port);
+        const FirmwareRunOptions o = run_options(*cli, profile_always);
         const FirmwareRunResult r = run_firmware(o);
-        // With --unity stdout carries the firmware's Unity output only (pio test parses it).
-        FILE* out = o.unity ? stderr : stdout;
-        const double sim_s = hil::cycles_to_s(r.cycles_total, r.clock_hz);
-        std::fprintf(out, "%s: %s after %.3f simulated s (%llu cycles) in %.2f s wall, %.1f Mcycles/s\n",
-                    o.out_dir.c_str(), to_string(r.exit), sim_s,
-                    static_cast<unsigned long long>(r.cycles_total), r.wall_seconds,
-                    r.wall_seconds > 0 ? static_cast<double>(r.cycles_total) / r.wall_seconds / 1e6 : 0.0);
-        if (r.exit == RunExit::kTimeLimit) {
-            const std::string uart_txt =
-                o.baud ? fmt::format("uart.txt: what the adapter at {} baud decoded", *o.baud) : "all in uart.txt";
-            std::fprintf(out, "plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; encoder edges %llu / %llu (lost "
-                        "%llu / %llu); %llu bytes sent on %s (%s)\n",
-                        r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
-                        static_cast<unsigned long long>(r.encoder[0].edges_injected),
-                        static_cast<unsigned long long>(r.encoder[1].edges_injected),
-                        static_cast<unsigned long long>(r.encoder[0].lost_edges),
-                        static_cast<unsigned long long>(r.encoder[1].lost_edges),
-                        static_cast<unsigned long long>(r.uart_bytes), o.serial_port.c_str(), uart_txt.c_str());
-            print_function_profile(r, out);
-            return kExitOk;
-        }
-        if (r.exit != RunExit::kReportComplete) {
-            std::fprintf(stderr, "ddmr-hil run: %s\n", r.message.c_str());
-            return kExitFirmware;
-        }
-        if (r.unity) {
-            std::fprintf(stderr, "Unity: %u tests, %u failures, %u ignored: %s\n", r.unity->tests, r.unity->failures,
-                         r.unity->ignored, r.unity->ok ? "OK" : "FAIL");
-            return r.unity->ok ? kExitOk : kExitCheckFailed;
-        }
-        const auto& rep = r.report;
-        if (r.has_report) {
-            // The report's dump has one line more than the log has samples
-            // (its last line, j = addr, is a byte the run never wrote).
-            std::fprintf(out, "firmware report: Count1 %.0f, Count2 %.0f, end estimate (%.4f, %.4f) m, "
-                        "theta %.4f rad, %zu EEPROM log samples\n",
-                        rep.count1.value_or(-1), rep.count2.value_or(-1), rep.ex.value_or(0),
-                        rep.ey.value_or(0), rep.theta.value_or(0), r.eeprom_log_samples);
-        } else if (r.end_pose_firmware) {
-            std::fprintf(out, "firmware pose estimate: (%.4f, %.4f) m, theta %.4f rad; %zu EEPROM log samples\n",
-                        r.end_pose_firmware->x_m, r.end_pose_firmware->y_m, r.end_pose_firmware->theta_rad,
-                        r.eeprom_log_samples);
-        }
-        std::fprintf(out, "plant truth: end pose (%.4f, %.4f) m, theta %.4f rad; %llu loop iterations, "
-                    "mean period %.3f ms; lost encoder edges %llu / %llu\n",
-                    r.end_pose_truth.x_m, r.end_pose_truth.y_m, r.end_pose_truth.theta_rad,
-                    static_cast<unsigned long long>(r.loop_iterations), r.mean_loop_period_s * 1e3,
-                    static_cast<unsigned long long>(r.encoder[0].lost_edges),
-                    static_cast<unsigned long long>(r.encoder[1].lost_edges));
-        if (!r.loop_profile.empty()) {
-            // Cycles first (what the firmware costs on any clock), then time.
-            // The iterations that start an EEPROM write apart: the write's
-            // wait (3.3 ms per byte after the first) is not the control law's.
-            const auto cyc_us = [&](double cycles) {
-                return fmt::format("{:.0f} cycles ({:.1f} us)", cycles, cycles / r.clock_hz * 1e6);
-            };
-            std::fprintf(out, "loop profile: %zu iterations measured (all but the first, which has no start):\n",
-                        r.loop_profile.size());
-            for (const bool eeprom : {false, true}) {
-                hil::Cycles max_compute = 0, max_period = 0, sum_compute = 0, sum_period = 0;
-                std::size_t n = 0;
-                for (const auto& it : r.loop_profile) {
-                    if (it.eeprom_write != eeprom) continue;
-                    ++n;
-                    max_compute = std::max(max_compute, it.compute());
-                    max_period = std::max(max_period, it.period());
-                    sum_compute += it.compute();
-                    sum_period += it.period();
-                }
-                if (n == 0) continue;
-                const double dn = static_cast<double>(n);
-                std::fprintf(out, "  %4zu %-24s compute mean %s, max %s; period mean %.3f ms, max %.3f ms\n", n,
-                            eeprom ? "with an EEPROM write" : "without an EEPROM write",
-                            cyc_us(static_cast<double>(sum_compute) / dn).c_str(),
-                            cyc_us(static_cast<double>(max_compute)).c_str(),
-                            hil::cycles_to_s(sum_period, r.clock_hz) / dn * 1e3,
-                            hil::cycles_to_s(max_period, r.clock_hz) * 1e3);
-            }
-            std::fprintf(out, "  details in loop_profile.csv and summary.json\n");
-            if (r.eeprom_writes > r.eeprom_writes_recorded) {
-                std::fprintf(out, "loop profile: %llu EEPROM writes, only the first %zu recorded: iterations after "
-                            "the last of them are not tagged eeprom_write\n",
-                            static_cast<unsigned long long>(r.eeprom_writes), r.eeprom_writes_recorded);
-            }
-        }
-        print_function_profile(r, out);
-        return kExitOk;
+        return print_run_result(o, r);
     }};
 }
 
