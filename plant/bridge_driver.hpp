@@ -18,7 +18,7 @@
 //                        (terminals clamped at -sgn(I)(V_b + 2 V_f)) and, once
 //                        it reaches zero, stays zero: discontinuous conduction.
 //                        The thesis (ch. 5) names this model as missing.
-// A bipolar bridge (L298) is a constant drop (its saturation voltages); a
+// A bipolar bridge (L298, L293D) is a constant drop (its saturation voltages); a
 // MOSFET bridge (TB6612FNG, DRV8833) is a resistance. Each chip's values and
 // sources: default_bridge_params() below and plant/params/default.yaml.
 //
@@ -39,7 +39,7 @@ enum class DriveMode { averaged, switched };
 /// Electrical parameters of one bridge (both bridges of a chip share them).
 struct BridgeParams {
     /// Constant drop of the two conducting switches while driving [V], [0, 5]:
-    /// the source + sink saturation voltages of a bipolar bridge (L298).
+    /// the source + sink saturation voltages of a bipolar bridge (L298, L293D).
     double drop_V = 0.0;
     /// Upper + lower switch resistance while driving [ohm], [0, 10]: a MOSFET
     /// bridge's R_DS(on), in series with the armature.
@@ -69,11 +69,23 @@ void validate(const BridgeParams& p, const char* prefix);
 ///                         0.32 ohm (2 x LS 160 mohm: both low sides on, slow
 ///                         decay); diode 0.8 V (our estimate: the datasheet
 ///                         gives no body-diode VF).
+///   L293D (TI SLRS008, Darlington): electrical characteristics, VCC1 = 5 V,
+///                         VCC2 = 24 V, 25 C, L293D rows: drop 2.6 V = VOH
+///                         drop 1.4 V typ (VCC2 - 1.4 V at IOH = -0.6 A) + VOL
+///                         1.2 V typ (IOL = 0.6 A); worst case 1.8 + 1.8 =
+///                         3.6 V. No resistance. Brake ("fast motor stop",
+///                         Figure 5: both outputs on one rail) taken, as the
+///                         L298's, as a shorted winding (0 ohm); derived: the
+///                         real path is one switch plus one clamp diode
+///                         (bipolar switches conduct one way). Diode 1.3 V:
+///                         the built-in clamps, VOKH = VCC2 + 1.3 V and VOKL
+///                         = 1.3 V typ at IOK = -+0.6 A.
 constexpr BridgeParams default_bridge_params(DriverChip chip) {
     switch (chip) {
         case DriverChip::l298: return {1.4, 0.0, 0.0, 0.8};
         case DriverChip::tb6612: return {0.0, 0.5, 0.5, 1.0};
         case DriverChip::drv8833: return {0.0, 0.36, 0.32, 0.8};
+        case DriverChip::l293d: return {2.6, 0.0, 0.0, 1.3};
     }
     return {};
 }

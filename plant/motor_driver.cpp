@@ -7,12 +7,19 @@ namespace ddmr::plant {
 
 namespace {
 
+// One table for two chips: an enable and two half-bridge inputs.
 // ST L298, Figure 6 "Bidirectional DC Motor Control" (p. 6; C, D = IN1, IN2):
 //   EN L             free running motor stop (all four transistors off) -> coast
 //   EN H, C H, D L   forward                                           -> forward
 //   EN H, C L, D H   reverse                                           -> reverse
 //   EN H, C = D      fast motor stop (both upper or both lower on)     -> brake
-BridgeState l298n(bool en, bool in1, bool in2) {
+// TI L293D (SLRS008), Figure 5 "Bidirectional DC motor control" (1A, 2A = IN1,
+// IN2), the same rows: EN H, 1A H, 2A L "turn left" -> forward (IN1 H, as the
+// L298's); 1A L, 2A H "turn right" -> reverse; 1A = 2A "fast motor stop" ->
+// brake. EN L is printed "fast motor stop" too, but Figure 4 calls it
+// "free-running motor stop" and the function table makes the outputs Z
+// (EN = L: Y = Z) -> coast, through the built-in clamp diodes.
+BridgeState enable_in1_in2(bool en, bool in1, bool in2) {
     if (!en) return BridgeState::coast;
     if (in1 == in2) return BridgeState::brake;
     return in1 ? BridgeState::forward : BridgeState::reverse;
@@ -85,7 +92,8 @@ InputSet inputs_of(DriverType t) {
     constexpr Input sleep{&L::sleep, &D::sleep};
     switch (t) {
         case DriverType::dir_pwm: return {{pwm, dir}, 2};
-        case DriverType::l298n: return {{en, in1, in2}, 3};
+        case DriverType::l298n:
+        case DriverType::l293d: return {{en, in1, in2}, 3};
         case DriverType::tb6612: return {{pwm, in1, in2, stby}, 4};
         case DriverType::drv8833: return {{in1, in2, sleep}, 3};
     }
@@ -97,7 +105,8 @@ InputSet inputs_of(DriverType t) {
 BridgeState bridge_state(DriverType type, const DriverInputLevels& in) {
     switch (type) {
         case DriverType::dir_pwm: return dir_pwm(in.pwm, in.dir);
-        case DriverType::l298n: return l298n(in.en, in.in1, in.in2);
+        case DriverType::l298n:
+        case DriverType::l293d: return enable_in1_in2(in.en, in.in1, in.in2);
         case DriverType::tb6612: return tb6612(in.stby, in.in1, in.in2, in.pwm);
         case DriverType::drv8833: return drv8833(in.sleep, in.in1, in.in2);
     }

@@ -1,6 +1,7 @@
 // Tests for plant/bridge_driver: the terminal condition of each bridge state
-// and of the averaged model, for the L298 (drop 1.4 V, diode 0.8 V) and the
-// MOSFET chips, battery 6.1 V unless stated.
+// and of the averaged model, for the L298 (drop 1.4 V, diode 0.8 V), the
+// L293D (drop 2.6 V, diode 1.3 V) and the MOSFET chips, battery 6.1 V unless
+// stated.
 #include "plant/bridge_driver.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@ namespace {
 const BridgeParams kL298 = default_bridge_params(DriverChip::l298);
 const BridgeParams kTb6612 = default_bridge_params(DriverChip::tb6612);
 const BridgeParams kDrv8833 = default_bridge_params(DriverChip::drv8833);
+const BridgeParams kL293d = default_bridge_params(DriverChip::l293d);
 
 BridgeInput averaged(double duty, bool forward, double brake = 0.0) {
     BridgeInput in;
@@ -37,6 +39,10 @@ TEST(BridgeDriver, DefaultsPerChipAreTheDatasheetValues) {
     EXPECT_EQ(kDrv8833.on_resistance_ohm, 0.36);  // 200 + 160 mohm
     EXPECT_EQ(kDrv8833.brake_resistance_ohm, 0.32);  // 2 x 160 mohm
     EXPECT_EQ(kDrv8833.drop_V, 0.0);
+    EXPECT_EQ(kL293d.drop_V, 2.6);                // VOH drop 1.4 + VOL 1.2 V typ at 0.6 A
+    EXPECT_EQ(kL293d.on_resistance_ohm, 0.0);
+    EXPECT_EQ(kL293d.brake_resistance_ohm, 0.0);  // fast motor stop as a short, as the L298's
+    EXPECT_EQ(kL293d.flyback_diode_drop_V, 1.3);  // VOKH / VOKL typ at 0.6 A
 }
 
 TEST(BridgeDriver, AveragedModelIsDutyTimesAvailableVoltage) {
@@ -127,6 +133,34 @@ TEST(BridgeDriver, AveragedInputFromTheBridgeFractions) {
     EXPECT_FALSE(in.forward);
     EXPECT_DOUBLE_EQ(in.duty, 0.4);  // net reverse 0.5 - 0.1
     EXPECT_EQ(in.brake, 0.4);
+}
+
+TEST(BridgeDriver, L293dDropsItsDarlingtonSaturationVoltages) {
+    // Switched: forward 6.1 - 2.6 = 3.5 V, reverse -3.5 V; coast clamped at
+    // 6.1 + 2 x 1.3 = 8.7 V by the built-in diodes; brake a shorted winding.
+    MotorTerminal t = terminal(kL293d, DriveMode::switched, switched(BridgeState::forward), 6.1);
+    EXPECT_NEAR(t.voltage_V, 3.5, 1e-12);
+    EXPECT_EQ(t.supply_factor, 1.0);
+    t = terminal(kL293d, DriveMode::switched, switched(BridgeState::reverse), 6.1);
+    EXPECT_NEAR(t.voltage_V, -3.5, 1e-12);
+    t = terminal(kL293d, DriveMode::switched, switched(BridgeState::coast), 6.1);
+    EXPECT_EQ(t.kind, MotorTerminal::Kind::open);
+    EXPECT_NEAR(t.clamp_V, 8.7, 1e-12);
+    t = terminal(kL293d, DriveMode::switched, switched(BridgeState::brake), 6.1, 0.037);
+    EXPECT_EQ(t.voltage_V, 0.0);
+    EXPECT_EQ(t.supply_factor, 0.0);
+    EXPECT_EQ(t.series_resistance_ohm, 0.0);
+    // Averaged, EN at D = 0.5, V_b = 6.1 V behind R_b = 0.037 ohm:
+    //   V = D (V_b - drop) = 0.5 x 3.5 = 1.75 V, R_s = D^2 R_b = 0.00925 ohm.
+    // A stalled motor 1 (no back-EMF, R_a = 5.32 ohm) then draws
+    //   I = 1.75 / (5.32 + 0.00925) = 0.328376 A,
+    // the battery D I = 0.164188 A.
+    t = terminal(kL293d, DriveMode::averaged, averaged(0.5, true), 6.1, 0.037);
+    EXPECT_NEAR(t.voltage_V, 1.75, 1e-12);
+    EXPECT_NEAR(t.series_resistance_ohm, 0.00925, 1e-15);
+    const double stall_A = t.voltage_V / (5.32 + t.series_resistance_ohm);
+    EXPECT_NEAR(stall_A, 0.328376, 1e-6);
+    EXPECT_NEAR(t.supply_factor * stall_A, 0.164188, 1e-6);
 }
 
 TEST(BridgeDriver, NothingPassesBelowTheDrop) {

@@ -27,6 +27,13 @@ BridgeState l298n(bool en, bool in1, bool in2) {
     in.in2 = in2;
     return bridge_state(DriverType::l298n, in);
 }
+BridgeState l293d(bool en, bool in1, bool in2) {
+    DriverInputLevels in;
+    in.en = en;
+    in.in1 = in1;
+    in.in2 = in2;
+    return bridge_state(DriverType::l293d, in);
+}
 BridgeState tb6612(bool in1, bool in2, bool pwm, bool stby) {
     DriverInputLevels in;
     in.in1 = in1;
@@ -48,6 +55,7 @@ TEST(MotorDriver, ChipOfEachType) {
     EXPECT_EQ(chip_of(DriverType::l298n), DriverChip::l298);
     EXPECT_EQ(chip_of(DriverType::tb6612), DriverChip::tb6612);
     EXPECT_EQ(chip_of(DriverType::drv8833), DriverChip::drv8833);
+    EXPECT_EQ(chip_of(DriverType::l293d), DriverChip::l293d);
 }
 
 TEST(MotorDriver, DirPwmIsTheThesisShield) {
@@ -67,6 +75,25 @@ TEST(MotorDriver, L298nFollowsFigure6) {
     EXPECT_EQ(l298n(H, L, L), kBrake);
     for (bool c : {L, H}) {
         for (bool d : {L, H}) EXPECT_EQ(l298n(L, c, d), kCoast) << c << d;
+    }
+}
+
+TEST(MotorDriver, L293dFollowsFigure5) {
+    // TI L293D, Figure 5 (EN, 1A, 2A): H H L "turn left" = forward (IN1 H, as
+    // the L298's), H L H "turn right" = reverse, 1A = 2A fast motor stop;
+    // EN L: outputs Z (function table), so coast whatever 1A and 2A are.
+    EXPECT_EQ(l293d(H, H, L), kForward);
+    EXPECT_EQ(l293d(H, L, H), kReverse);
+    EXPECT_EQ(l293d(H, L, L), kBrake);
+    EXPECT_EQ(l293d(H, H, H), kBrake);
+    for (bool a1 : {L, H}) {
+        for (bool a2 : {L, H}) EXPECT_EQ(l293d(L, a1, a2), kCoast) << a1 << a2;
+    }
+    // The same table as the l298n type, row for row.
+    for (bool en : {L, H}) {
+        for (bool a1 : {L, H}) {
+            for (bool a2 : {L, H}) EXPECT_EQ(l293d(en, a1, a2), l298n(en, a1, a2)) << en << a1 << a2;
+        }
     }
 }
 
@@ -156,6 +183,26 @@ TEST(MotorDriver, AveragedOneSwitchingInputIsExact) {
     a = average_bridge(DriverType::drv8833, v);
     EXPECT_DOUBLE_EQ(a.forward, 0.25);
     EXPECT_DOUBLE_EQ(a.coast, 0.75);
+}
+
+TEST(MotorDriver, AveragedL293dWithPwmOnTheEnable) {
+    // L293D, EN at 0.6, 1A H, 2A L: forward while EN is high (0.6), outputs Z
+    // (coast) while low (0.4). With 1A = 2A = L instead: brake 0.6 (fast motor
+    // stop), coast 0.4.
+    DriverInputDuties d;
+    d.en = 0.6;
+    d.in1 = 1.0;
+    BridgeAverage a = average_bridge(DriverType::l293d, d);
+    EXPECT_EQ(a.forward, 0.6);
+    EXPECT_DOUBLE_EQ(a.coast, 0.4);
+    EXPECT_EQ(a.reverse, 0.0);
+    EXPECT_EQ(a.brake, 0.0);
+    d.in1 = 0.0;
+    a = average_bridge(DriverType::l293d, d);
+    EXPECT_EQ(a.brake, 0.6);
+    EXPECT_DOUBLE_EQ(a.coast, 0.4);
+    d.in2 = 1.0;
+    EXPECT_EQ(average_bridge(DriverType::l293d, d).reverse, 0.6);
 }
 
 TEST(MotorDriver, AveragedTwoSwitchingInputsAreTakenIndependent) {

@@ -60,10 +60,13 @@ TEST(ParamsYaml, PartialFileOverridesOnlyItsKeys) {
 
 TEST(ParamsYaml, EachChipHasItsSection) {
     const RobotParams p = parse_robot_params(
-        "tb6612:\n  on_resistance_ohm: 0.7\ndrv8833:\n  flyback_diode_drop_V: 0.9\n", "chips.yaml");
+        "tb6612:\n  on_resistance_ohm: 0.7\ndrv8833:\n  flyback_diode_drop_V: 0.9\n"
+        "l293d:\n  drop_V: 3.6\n",
+        "chips.yaml");
     RobotParams expected = default_robot_params();
     expected.tb6612.on_resistance_ohm = 0.7;
     expected.drv8833.flyback_diode_drop_V = 0.9;
+    expected.l293d.drop_V = 3.6;  // the L293D's worst case, 1.8 + 1.8 V
     EXPECT_TRUE(p == expected);
     EXPECT_EQ(p.driver.drop_V, 1.4);  // `driver:` is the L298, untouched
 }

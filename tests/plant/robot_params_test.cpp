@@ -67,9 +67,9 @@ TEST(RobotParams, EveryInvalidValueIsRejectedByName) {
                 f.member);
         }
     });
-    // 8 motor fields x 2 + 4 bridge fields x 3 chips (driver = L298, tb6612,
-    // drv8833) + 4 battery + 5 encoder (non-seed) x 2 + 3 + 2 = 47
-    EXPECT_EQ(checked, 47);
+    // 8 motor fields x 2 + 4 bridge fields x 4 chips (driver = L298, tb6612,
+    // drv8833, l293d) + 4 battery + 5 encoder (non-seed) x 2 + 3 + 2 = 51
+    EXPECT_EQ(checked, 51);
     EXPECT_TRUE(probe == defaults);  // every value restored
 }
 
@@ -124,6 +124,9 @@ TEST(RobotParams, EachMotorGetsItsChipsBridgeParameters) {
     EXPECT_EQ(&bridge_params(p, 0), &p.tb6612);
     EXPECT_EQ(&bridge_params(p, 1), &p.drv8833);
     EXPECT_EQ(bridge_params(p, 1).on_resistance_ohm, 0.36);
+    p.chip[1] = DriverChip::l293d;
+    EXPECT_EQ(&bridge_params(p, 1), &p.l293d);
+    EXPECT_EQ(bridge_params(p, 1).drop_V, 2.6);
 }
 
 TEST(RobotParams, RobotConstructorValidates) {

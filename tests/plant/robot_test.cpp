@@ -379,13 +379,14 @@ TEST(Robot, SteadyWheelSpeedThroughEachChipsDropAndOnResistance) {
     //   L298    V 4.7, R 5.32: (0.018048 - 0.0012236) / (1.1704e-6 + 1.47456e-5) = 1057.07 rad/s
     //   TB6612  V 6.1, R 5.82: (0.023424 - 0.0013386) / (1.2804e-6 + 1.47456e-5) = 1378.10 rad/s
     //   DRV8833 V 6.1, R 5.68: (0.023424 - 0.0013064) / (1.2496e-6 + 1.47456e-5) = 1382.76 rad/s
-    // (210.3, 274.2, 275.1 RPM at the wheel). 2 s is 29 mechanical time constants.
+    //   L293D   V 3.5, R 5.32: (0.01344 - 0.0012236) / (1.1704e-6 + 1.47456e-5) = 767.55 rad/s
+    // (210.3, 274.2, 275.1, 152.7 RPM at the wheel). 2 s is 29 mechanical time constants.
     struct Case {
         DriverChip chip;
         double hand_rad_s;
     };
     for (const Case& c : {Case{DriverChip::l298, 1057.07}, Case{DriverChip::tb6612, 1378.10},
-                          Case{DriverChip::drv8833, 1382.76}}) {
+                          Case{DriverChip::drv8833, 1382.76}, Case{DriverChip::l293d, 767.55}}) {
         const RobotParams p = ideal_battery(c.chip);
         Robot r(p);
         run(r, switched_states(BridgeState::forward, BridgeState::forward), 2.0);
@@ -403,6 +404,29 @@ TEST(Robot, SteadyWheelSpeedThroughEachChipsDropAndOnResistance) {
         run(a, averaged(1.0, 1.0), 2.0);
         EXPECT_NEAR(a.motor_speed_rad_s(0), w, 1e-9 * w) << static_cast<int>(c.chip);
     }
+}
+
+TEST(Robot, L293dAtDutyPointSixThroughItsTruthTable) {
+    // Motor 1 on an L293D, EN at duty 0.6, IN1 H, IN2 L, averaged, 6.1 V with
+    // R_b = 0: average_bridge gives forward 0.6, coast 0.4; the terminal sees
+    //   V = 0.6 (6.1 - 2.6) = 2.1 V, no series resistance, and settles at
+    //   w = (K_t V - R_a T_c) / (R_a F + K_t K_a)
+    //     = (0.00384 x 2.1 - 5.32 x 2.3e-4) / (5.32 x 2.2e-7 + 0.00384^2)
+    //     = 0.0068404 / 1.5916e-5 = 429.78 rad/s (85.5 RPM at the wheel),
+    //   drawing I = (V - K_a w) / R_a = (2.1 - 1.65036) / 5.32 = 0.08452 A.
+    const RobotParams p = ideal_battery(DriverChip::l293d);
+    DriverInputDuties d;
+    d.en = 0.6;
+    d.in1 = 1.0;
+    RobotInput in;
+    in.mode = DriveMode::averaged;
+    in.bridge[0] = averaged_input(average_bridge(DriverType::l293d, d));
+    in.bridge[1] = in.bridge[0];
+    EXPECT_EQ(in.bridge[0].duty, 0.6);
+    Robot r(p);
+    run(r, in, 2.0);
+    EXPECT_NEAR(r.motor_speed_rad_s(0), 429.78, 0.01);
+    EXPECT_NEAR(r.motor_current_A(0), 0.08452, 1e-5);
 }
 
 TEST(Robot, BrakeStopsFasterThanCoastByTheElectricalDamping) {
