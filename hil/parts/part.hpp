@@ -1,0 +1,128 @@
+#pragma once
+// Parts: the robot's hardware around the MCU, each created by type from the
+// PartRegistry (part_registry.hpp) and wired by the board file's `parts:`
+// list (docs/boards.md, "Parts"). A part type is one file: it declares
+//   - its board-file keys (PartKey): inputs (a board pin, another part's
+//     output "NAME.PORT", high or low), output pins it drives, and options,
+//     each with a one-line description;
+//   - its output ports (PartPort), which other parts read as LogicSignals
+//     (a 74HC595's Q0..Q7 feed an L293D's IN1/IN2);
+//   - a factory that builds the part from a PartContext.
+// At run time a part reads its inputs (LogicSignal listeners, or the
+// capabilities PinProbe, PinDriver, AdcInput, TwiSlave built on ctx.core(),
+// docs/parts_capabilities.md), drives its outputs, and names its truth
+// columns.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hil/avr_core.hpp"
+#include "hil/logic_signal.hpp"
+#include "plant/robot_params.hpp"
+
+namespace ddmr::hil {
+
+/// What a board-file key of a part is.
+enum class PartKeyKind : uint8_t {
+    input,       ///< a signal the part reads: a pin, NAME.PORT (another part's output), high or low
+    output_pin,  ///< a board pin the part drives
+    option,      ///< a value: a number in [lo, hi], or one of `choices`
+};
+
+struct PartKey {
+    std::string name;         ///< as printed on the module: "DS", "SHCP"
+    PartKeyKind kind = PartKeyKind::input;
+    std::string description;  ///< one line, for `ddmr-hil parts`, docs and the schema
+    bool required = true;
+    std::string default_value;         ///< an option's value (or an input's high/low) when left out
+    std::vector<std::string> choices;  ///< an option's allowed words (empty: a number)
+    double lo = 0.0, hi = 0.0;         ///< a numeric option's range
+
+    static PartKey input(std::string name, std::string description) {
+        return {std::move(name), PartKeyKind::input, std::move(description), true, {}, {}, 0.0, 0.0};
+    }
+    /// An input that reads `fallback` (high or low) when the board file leaves it out.
+    static PartKey input_or(std::string name, std::string description, std::string fallback) {
+        return {std::move(name), PartKeyKind::input, std::move(description), false, std::move(fallback), {}, 0.0, 0.0};
+    }
+    static PartKey output(std::string name, std::string description) {
+        return {std::move(name), PartKeyKind::output_pin, std::move(description), true, {}, {}, 0.0, 0.0};
+    }
+    static PartKey number(std::string name, std::string description, double fallback, double lo, double hi);
+    static PartKey choice(std::string name, std::string description, std::vector<std::string> choices);
+};
+
+/// An output other parts can read as "NAME.PORT".
+struct PartPort {
+    std::string name;
+    std::string description;
+};
+
+/// One `parts:` entry as the board file gives it (resolved against its type).
+struct PartEntry {
+    std::string name;  ///< unique on the board; other parts say NAME.PORT
+    std::string type;
+    int line = 0;      ///< board-file line of the entry
+    struct Value {
+        std::string text;  ///< as written: "8", "A0", "shield.Q2", "high", "2.5"
+        int pin = -1;      ///< a pin's number (inputs and output pins on a pin)
+        int line = 0;
+    };
+    std::map<std::string, Value> values;  ///< by key; defaults filled in
+};
+
+class Part;
+
+/// What a part is built from: the core, its resolved inputs, output pins and options.
+class PartContext {
+public:
+    using SignalOf = std::function<const LogicSignal&(const std::string& key)>;
+    PartContext(AvrCore& core, const PartEntry& entry, SignalOf signal_of, std::function<plant::Pose()> pose)
+        : core_(core), entry_(entry), signal_of_(std::move(signal_of)), pose_(std::move(pose)) {}
+
+    [[nodiscard]] AvrCore& core() const { return core_; }
+    [[nodiscard]] const std::string& name() const { return entry_.name; }
+    /// The signal wired to input `key`.
+    [[nodiscard]] const LogicSignal& input(const std::string& key) const { return signal_of_(key); }
+    /// The board pin of output `key`.
+    [[nodiscard]] int output_pin(const std::string& key) const;
+    /// An option's text, or a numeric option's value.
+    [[nodiscard]] const std::string& text(const std::string& key) const;
+    [[nodiscard]] double number(const std::string& key) const;
+    /// The robot's pose now (for parts that see the world).
+    [[nodiscard]] plant::Pose pose() const { return pose_(); }
+
+private:
+    AvrCore& core_;
+    const PartEntry& entry_;
+    SignalOf signal_of_;
+    std::function<plant::Pose()> pose_;
+};
+
+class Part {
+public:
+    virtual ~Part() = default;
+    /// Output port `port` (one of its type's ports) as a signal.
+    [[nodiscard]] virtual const LogicSignal& output(const std::string& port) const = 0;
+    /// truth.csv's columns of this part (without the "NAME." prefix) and their values now.
+    [[nodiscard]] virtual std::vector<std::string> truth_columns() const { return {}; }
+    virtual void truth_values(std::vector<double>& /*out*/) const {}
+};
+
+struct PartType {
+    std::string type;       ///< the board file's `type:` word
+    std::string summary;    ///< one line
+    std::string datasheet;  ///< the source of its behaviour
+    std::vector<PartKey> keys;
+    std::vector<PartPort> ports;
+    std::function<std::unique_ptr<Part>(const PartContext&)> create;
+
+    [[nodiscard]] const PartKey* key(const std::string& name) const;
+    [[nodiscard]] bool has_port(const std::string& name) const;
+};
+
+}  // namespace ddmr::hil

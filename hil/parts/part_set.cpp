@@ -1,0 +1,167 @@
+#include "hil/parts/part_set.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "hil/pin_probe.hpp"
+#include "hil/yaml_reader.hpp"
+
+namespace ddmr::hil {
+namespace {
+
+/// A board pin as a part's input: its level as the registers set it.
+class PinSignal final : public LogicSignal {
+public:
+    PinSignal(AvrCore& core, int pin) : LogicSignal(fmt::format("pin {}", pin)), probe_(core, pin) {
+        level_ = high(probe_.state());
+        probe_.set_listener([this](const PinState& s, Cycles cycle) {
+            const bool level = high(s);
+            if (level == level_) return;
+            level_ = level;
+            changed(level, cycle);
+        });
+    }
+    [[nodiscard]] bool level_at(Cycles /*cycle*/) const override { return level_; }
+    [[nodiscard]] double duty() const override { return level_ ? 1.0 : 0.0; }
+
+private:
+    static bool high(const PinState& s) { return s.level == PinLevel::driven_high || s.level == PinLevel::pulled_up; }
+    PinProbe probe_;
+    bool level_ = false;
+};
+
+/// `high` or `low`.
+class ConstantSignal final : public LogicSignal {
+public:
+    explicit ConstantSignal(bool level) : LogicSignal(level ? "high" : "low"), level_(level) {}
+    [[nodiscard]] bool level_at(Cycles /*cycle*/) const override { return level_; }
+    [[nodiscard]] double duty() const override { return level_ ? 1.0 : 0.0; }
+
+private:
+    bool level_;
+};
+
+[[noreturn]] void refuse(const std::string& source, int line, const std::string& key, const std::string& what) {
+    throw std::invalid_argument(fmt::format("{}: key '{}': {}", file_line(source, line), key, what));
+}
+
+}  // namespace
+
+std::optional<PartOutputRef> parse_part_output_ref(const std::string& text) {
+    const auto dot = text.find('.');
+    if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) return std::nullopt;
+    return PartOutputRef{text.substr(0, dot), text.substr(dot + 1)};
+}
+
+std::vector<std::size_t> part_order(const std::vector<PartEntry>& entries, const PartRegistry& registry,
+                                    const std::string& source) {
+    std::map<std::string, std::size_t> index;
+    for (std::size_t i = 0; i < entries.size(); ++i) index.emplace(entries[i].name, i);
+    // For each part, the parts it reads (checked: they exist and have the port).
+    std::vector<std::vector<std::size_t>> reads(entries.size());
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const PartType* type = registry.find(entries[i].type);
+        for (const auto& [key, value] : entries[i].values) {
+            const PartKey* k = type != nullptr ? type->key(key) : nullptr;
+            if (k == nullptr || k->kind != PartKeyKind::input) continue;
+            const auto ref = parse_part_output_ref(value.text);
+            if (!ref) continue;
+            const std::string where = fmt::format("parts.{}.{}", entries[i].name, key);
+            const auto it = index.find(ref->part);
+            if (it == index.end()) {
+                refuse(source, value.line, where, fmt::format("'{}': no part is called '{}': the input is fed by nothing",
+                                                              value.text, ref->part));
+            }
+            const PartType* from = registry.find(entries[it->second].type);
+            if (from == nullptr || !from->has_port(ref->port)) {
+                refuse(source, value.line, where,
+                       fmt::format("'{}': part '{}' ({}) has no output '{}': the input is fed by nothing", value.text,
+                                   ref->part, entries[it->second].type, ref->port));
+            }
+            reads[i].push_back(it->second);
+        }
+    }
+    // Depth-first, in file order: a part after what it reads; a part met again
+    // while its own inputs are being followed closes a loop.
+    std::vector<int> state(entries.size(), 0);  // 0 new, 1 in progress, 2 placed
+    std::vector<std::size_t> order;
+    std::function<void(std::size_t)> place = [&](std::size_t i) {
+        if (state[i] == 2) return;
+        if (state[i] == 1) {
+            refuse(source, entries[i].line, fmt::format("parts.{}", entries[i].name),
+                   "a loop of parts feeding each other: each part must be fed by pins or by parts it does not feed");
+        }
+        state[i] = 1;
+        for (const std::size_t j : reads[i]) place(j);
+        state[i] = 2;
+        order.push_back(i);
+    };
+    for (std::size_t i = 0; i < entries.size(); ++i) place(i);
+    return order;
+}
+
+PartSet::PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const PartRegistry& registry,
+                 std::function<plant::Pose()> pose)
+    : core_(core) {
+    for (const std::size_t i : part_order(entries, registry, "the board")) {
+        const PartEntry& entry = entries[i];
+        const PartType* type = registry.find(entry.type);
+        if (type == nullptr) throw std::invalid_argument(fmt::format("part '{}': unknown type '{}'", entry.name, entry.type));
+        const PartContext ctx(
+            core_, entry, [this, &entry](const std::string& key) -> const LogicSignal& { return input_signal(entry, key); },
+            pose);
+        parts_.emplace_back(entry.name, type->create(ctx));
+    }
+}
+
+PartSet::~PartSet() = default;
+
+const LogicSignal& PartSet::input_signal(const PartEntry& entry, const std::string& key) {
+    const auto it = entry.values.find(key);
+    if (it == entry.values.end()) {
+        throw std::logic_error(fmt::format("part '{}': input '{}' is not wired", entry.name, key));
+    }
+    const PartEntry::Value& v = it->second;
+    if (const auto ref = parse_part_output_ref(v.text)) return output(ref->part, ref->port);
+    if (v.text == "high" || v.text == "low") {
+        signals_.push_back(std::make_unique<ConstantSignal>(v.text == "high"));
+    } else {
+        signals_.push_back(std::make_unique<PinSignal>(core_, v.pin));
+    }
+    return *signals_.back();
+}
+
+const Part* PartSet::find(const std::string& name) const {
+    for (const auto& [n, part] : parts_) {
+        if (n == name) return part.get();
+    }
+    return nullptr;
+}
+
+const LogicSignal& PartSet::output(const std::string& name, const std::string& port) const {
+    const Part* part = find(name);
+    if (part == nullptr) throw std::invalid_argument(fmt::format("no part is called '{}'", name));
+    return part->output(port);
+}
+
+const LogicSignal& PartSet::signal(const std::string& ref) const {
+    const auto r = parse_part_output_ref(ref);
+    if (!r) throw std::invalid_argument(fmt::format("'{}' is not a part output (NAME.PORT)", ref));
+    return output(r->part, r->port);
+}
+
+std::vector<std::string> PartSet::truth_columns() const {
+    std::vector<std::string> out;
+    for (const auto& [name, part] : parts_) {
+        for (const std::string& c : part->truth_columns()) out.push_back(name + "." + c);
+    }
+    return out;
+}
+
+void PartSet::truth_values(std::vector<double>& out) const {
+    for (const auto& [name, part] : parts_) part->truth_values(out);
+}
+
+}  // namespace ddmr::hil
