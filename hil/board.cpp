@@ -1,4 +1,7 @@
 #include "hil/board.hpp"
+#include "hil/parts/part_entries.hpp"
+#include "hil/parts/part_registry.hpp"
+#include "hil/parts/part_set.hpp"
 #include "hil/yaml_reader.hpp"
 
 #include <fmt/format.h>
@@ -35,8 +38,20 @@ const std::vector<DriverSpec>& driver_specs() {
         {DriverType::tb6612, "tb6612", "TB6612", {R::pwm, R::in1, R::in2, R::stby}, {}, {R::stby}, {R::pwm},
          {R::stby}},
         {DriverType::drv8833, "drv8833", "DRV8833", {R::in1, R::in2}, {R::sleep}, {R::sleep}, {}, {R::sleep}},
+        {DriverType::l293d, "l293d", "L293D", {R::en, R::in1, R::in2}, {}, {R::en}, {}, {}},
     };
     return specs;
+}
+
+/// "dir-pwm, l298n, tb6612, drv8833 or l293d".
+std::string driver_key_list() {
+    std::string out;
+    const auto& specs = driver_specs();
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+        out += i == 0 ? "" : (i + 1 == specs.size() ? " or " : ", ");
+        out += specs[i].key;
+    }
+    return out;
 }
 
 const DriverSpec& spec_of(DriverType t) {
@@ -113,13 +128,43 @@ BoardWiring default_board() {
     for (std::size_t m = 0; m < 2; ++m) {
         MotorWiring& w = b.wheel[m].motor;
         w.driver = DriverType::dir_pwm;
-        w[DriverRole::pwm] = InputWire{true, false, pins[m][0], 0};
-        w[DriverRole::dir] = InputWire{true, false, pins[m][1], 0};
+        w[DriverRole::pwm] = InputWire{true, false, pins[m][0], 0, {}};
+        w[DriverRole::dir] = InputWire{true, false, pins[m][1], 0, {}};
         b.wheel[m].encoder.kind = EncoderKind::single;
         b.wheel[m].encoder.pin = {pins[m][2], -1};
     }
     return b;
 }
+
+namespace {
+
+/// Each wheel input a part drives names a part and port that exist; the parts'
+/// own inputs too, without a loop (part_order).
+void check_part_feeds(const BoardWiring& board) {
+    const PartRegistry& registry = PartRegistry::global();
+    for (std::size_t m = 0; m < 2; ++m) {
+        for (const DriverRole r : kAllRoles) {
+            const InputWire& in = board.wheel[m].motor[r];
+            if (in.part_output.empty()) continue;
+            const auto ref = parse_part_output_ref(in.part_output);
+            const auto part = std::find_if(board.parts.begin(), board.parts.end(),
+                                           [&](const PartEntry& p) { return p.name == ref->part; });
+            if (part == board.parts.end()) {
+                fail(board.source, in.line, motor_key(m, r),
+                     fmt::format("'{}': no part is called '{}': the input is fed by nothing", in.part_output, ref->part));
+            }
+            const PartType* type = registry.find(part->type);
+            if (type == nullptr || !type->has_port(ref->port)) {
+                fail(board.source, in.line, motor_key(m, r),
+                     fmt::format("'{}': part '{}' ({}) has no output '{}': the input is fed by nothing", in.part_output,
+                                 ref->part, part->type, ref->port));
+            }
+        }
+    }
+    (void)part_order(board.parts, registry, board.source);
+}
+
+}  // namespace
 
 void validate(const BoardWiring& board) {
     const std::string& src = board.source;
@@ -146,7 +191,7 @@ void validate(const BoardWiring& board) {
         const DriverSpec& spec = spec_of(w.driver);
         for (const DriverRole r : kAllRoles) {
             const InputWire& in = w[r];
-            if (!in.used || in.tied_high) continue;
+            if (!in.on_pin()) continue;
             claim(in.pin, in.line, Use{motor_key(m, r), m, r, contains(spec.shared, r)});
             if (contains(spec.pwm_only, r) && !board_pin(desc, in.pin)->oc) {
                 fail(src, in.line, motor_key(m, r),
@@ -162,15 +207,44 @@ void validate(const BoardWiring& board) {
             claim(e.pin[s], e.line[s], Use{encoder_key(e, m, s), m, DriverRole::pwm, false});
         }
     }
+    // Parts: a pin a part drives is used once; parts' inputs may share a pin
+    // (two 74HC595s on one clock), not with anything else.
+    std::map<int, std::string> part_inputs;
+    for (const PartEntry& p : board.parts) {
+        const PartType* type = PartRegistry::global().find(p.type);
+        if (type == nullptr) fail(src, p.line, "parts." + p.name + ".type", fmt::format("unknown part type '{}'", p.type));
+        for (const auto& [k, v] : p.values) {
+            if (v.pin < 0) continue;
+            const std::string key = fmt::format("parts.{}.{}", p.name, k);
+            if (type->key(k)->kind != PartKeyKind::input) {
+                if (const auto it = part_inputs.find(v.pin); it != part_inputs.end()) {
+                    fail(src, v.line, key, fmt::format("pin {} is already used by {}", v.pin, it->second));
+                }
+                claim(v.pin, v.line, Use{key, 2, DriverRole::pwm, false});
+                continue;
+            }
+            check_pin(desc, src, v.line, key, v.pin);
+            if (const auto it = used.find(v.pin); it != used.end()) {
+                fail(src, v.line, key, fmt::format("pin {} is already used by {}", v.pin, it->second.key));
+            }
+            part_inputs.emplace(v.pin, key);
+        }
+    }
+    check_part_feeds(board);
 }
 
 std::vector<int> wired_pins(const BoardWiring& board) {
     std::set<int> pins;
     for (const WheelWiring& w : board.wheel) {
         for (const InputWire& in : w.motor.input) {
-            if (in.used && !in.tied_high) pins.insert(in.pin);
+            if (in.on_pin()) pins.insert(in.pin);
         }
         for (unsigned s = 0; s < w.encoder.signals(); ++s) pins.insert(w.encoder.pin[s]);
+    }
+    for (const PartEntry& p : board.parts) {
+        for (const auto& [key, v] : p.values) {
+            if (v.pin >= 0) pins.insert(v.pin);
+        }
     }
     return {pins.begin(), pins.end()};
 }
@@ -189,10 +263,15 @@ void check_host_serial_pins(const BoardWiring& board, const UsartDesc& usart) {
     for (std::size_t m = 0; m < 2; ++m) {
         for (const DriverRole r : kAllRoles) {
             const InputWire& in = board.wheel[m].motor[r];
-            if (in.used && !in.tied_high) check(in.pin, in.line, motor_key(m, r));
+            if (in.on_pin()) check(in.pin, in.line, motor_key(m, r));
         }
         const EncoderWiring& e = board.wheel[m].encoder;
         for (unsigned s = 0; s < e.signals(); ++s) check(e.pin[s], e.line[s], encoder_key(e, m, s));
+    }
+    for (const PartEntry& p : board.parts) {
+        for (const auto& [k, v] : p.values) {
+            if (v.pin >= 0) check(v.pin, v.line, fmt::format("parts.{}.{}", p.name, k));
+        }
     }
 }
 
@@ -221,14 +300,14 @@ struct Reader : YamlReader {
     }
     MotorWiring motor(const YAML::Node& n, const std::string& key) const {
         mapping(n, key);
-        if (!n["driver"]) fail(n, key + ".driver", "missing (dir-pwm, l298n, tb6612 or drv8833)");
+        if (!n["driver"]) fail(n, key + ".driver", fmt::format("missing ({})", driver_key_list()));
         const std::string type = n["driver"].Scalar();
         const DriverSpec* spec = nullptr;
         for (const DriverSpec& s : driver_specs()) {
             if (type == s.key) spec = &s;
         }
         if (spec == nullptr) {
-            fail(n["driver"], key + ".driver", fmt::format("unknown driver '{}' (dir-pwm, l298n, tb6612 or drv8833)", type));
+            fail(n["driver"], key + ".driver", fmt::format("unknown driver '{}' ({})", type, driver_key_list()));
         }
         MotorWiring w;
         w.driver = spec->type;
@@ -259,6 +338,14 @@ struct Reader : YamlReader {
                     fail(v, k, fmt::format("the {} input {} must be wired to a pin, not high", spec->label, role_key(r)));
                 }
                 in.tied_high = true;
+                continue;
+            }
+            if (v.IsScalar() && parse_part_output_ref(v.Scalar())) {
+                if (contains(spec->pwm_only, r)) {
+                    fail(v, k, fmt::format("the {} input {} needs a timer's PWM: wire it to a PWM pin, not a part's "
+                                           "output", spec->label, role_key(r)));
+                }
+                in.part_output = v.Scalar();
                 continue;
             }
             in.pin = pin(v, k);
@@ -299,7 +386,7 @@ BoardWiring load_board_file(const std::filesystem::path& path) {
     const YAML::Node root = YamlReader::load(path, "the board file");
     Reader r{{source}};
     if (!root.IsMap()) r.fail(root, "board", "a board file is a mapping with the keys board and wheels");
-    r.only_keys(root, "", {"board", "wheels"});
+    r.only_keys(root, "", {"board", "parts", "wheels"});
     BoardWiring b;
     b.source = source;
     if (root["board"]) {
@@ -312,6 +399,11 @@ BoardWiring load_board_file(const std::filesystem::path& path) {
         if (!model) r.fail(n, "board", fmt::format("unknown board '{}' ({})", n.Scalar(), board_key_list()));
         b.model = *model;
         r.desc = &board_description(b.model);
+    }
+    if (root["parts"]) {
+        b.parts = read_part_entries(
+            r, root["parts"], [&r](const YAML::Node& n, const std::string& key) { return r.pin(n, key); },
+            PartRegistry::global());
     }
     if (!root["wheels"]) r.fail(root, "wheels", "missing: the left and right wheels' motor and encoder wiring");
     const YAML::Node wheels = r.mapping(root["wheels"], "wheels");

@@ -7,6 +7,8 @@
 // File form (docs/boards.md documents every key; `--board FILE`, or a
 // scenario's `board:` key):
 //   board: uno                       # uno (default), nano, pro-mini-8mhz (hil/board_description.hpp)
+//   parts:                           # optional: any registered part (hil/parts/), wired to pins or parts
+//     - {name: shield, type: 74hc595, DS: 8, SHCP: 4, STCP: 12, OE: 7}
 //   wheels:
 //     right:                         # motor 1, encoder 1 (plant sections motor1/encoder1)
 //       motor:   {driver: dir-pwm, PWM: 10, DIR: 12}
@@ -24,6 +26,7 @@
 #include <vector>
 
 #include "hil/board_description.hpp"
+#include "hil/parts/part.hpp"
 #include "plant/motor_driver.hpp"
 
 namespace ddmr::hil {
@@ -40,6 +43,9 @@ struct InputWire {
     bool tied_high = false;  ///< `high`: a jumper or pull-up to Vcc, no pin
     int pin = -1;            ///< the board's pin number when a pin drives it
     int line = 0;            ///< board-file line (0: not from a file)
+    std::string part_output;  ///< "NAME.PORT": a part's output drives it (no pin), e.g. "shield.Q2"
+    /// A board pin drives it (not `high`, not a part's output).
+    [[nodiscard]] bool on_pin() const { return used && !tied_high && part_output.empty(); }
 };
 
 struct MotorWiring {
@@ -72,14 +78,15 @@ struct BoardWiring {
     BoardModel model = BoardModel::uno;
     /// [0]: the right wheel (motor 1, encoder 1), [1]: the left wheel (motor 2, encoder 2).
     std::array<WheelWiring, 2> wheel{};
+    std::vector<PartEntry> parts;  ///< the `parts:` list (hil/parts/part.hpp), in file order
     std::string source = "built-in default board";  ///< the file it came from (messages)
 };
 
 /// "right" (index 0) or "left" (1).
 const char* wheel_name(std::size_t m);
-/// "dir-pwm", "l298n", "tb6612", "drv8833".
+/// "dir-pwm", "l298n", "tb6612", "drv8833", "l293d".
 const char* driver_key(plant::DriverType t);
-/// The module as a user calls it: "L298 shield", "L298N", "TB6612", "DRV8833".
+/// The module as a user calls it: "L298 shield", "L298N", "TB6612", "DRV8833", "L293D".
 const char* driver_label(plant::DriverType t);
 /// "right L298N EN": for warnings and messages.
 std::string input_label(const BoardWiring& b, std::size_t m, DriverRole r);
@@ -91,7 +98,9 @@ BoardWiring default_board();
 
 /// Throws std::invalid_argument "SOURCE:LINE: key 'K': what is wrong" for a
 /// pin the board lacks, the console UART's pins (0 and 1), a pin used twice (one dual module's
-/// shared STBY/SLEEP excepted), a PWM input on a pin without a timer output.
+/// shared STBY/SLEEP excepted; several parts' inputs may share a pin, as two 74HC595s share a
+/// clock), a PWM input on a pin without a timer output, an input fed by a part or port that
+/// does not exist, a loop of parts feeding each other.
 void validate(const BoardWiring& board);
 
 /// Throws std::invalid_argument "SOURCE:LINE: key 'K': pin 19 carries Serial1's

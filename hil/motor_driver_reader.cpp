@@ -16,7 +16,7 @@ std::vector<int> driver_pins(const BoardWiring& board) {
     std::vector<int> pins;
     for (const WheelWiring& w : board.wheel) {
         for (const InputWire& in : w.motor.input) {
-            if (in.used && !in.tied_high && std::find(pins.begin(), pins.end(), in.pin) == pins.end()) {
+            if (in.on_pin() && std::find(pins.begin(), pins.end(), in.pin) == pins.end()) {
                 pins.push_back(in.pin);
             }
         }
@@ -48,7 +48,7 @@ V T::*field_of(DriverRole r) {
 
 }  // namespace
 
-MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board)
+MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board, const PartSet* parts)
     : board_((validate(board), board)), pins_(core, driver_pins(board)) {
     if (board.model != core.board().model) {
         throw std::logic_error(std::string("MotorDriverReader: the wiring is for board ") +
@@ -62,8 +62,13 @@ MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board)
             const InputWire& in = w.input[r];
             if (!in.used) continue;
             const auto role = static_cast<DriverRole>(r);
+            const LogicSignal* signal = nullptr;
+            if (!in.part_output.empty()) {
+                if (parts == nullptr) throw std::logic_error("MotorDriverReader: " + in.part_output + " needs the parts");
+                signal = &parts->signal(in.part_output);
+            }
             wheel_[m].inputs[wheel_[m].count++] =
-                Input{role, in.tied_high, in.pin, field_of<plant::DriverInputLevels, bool>(role),
+                Input{role, in.tied_high, in.pin, signal, field_of<plant::DriverInputLevels, bool>(role),
                       field_of<plant::DriverInputDuties, double>(role)};
         }
     }
@@ -71,12 +76,14 @@ MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board)
 
 bool MotorDriverReader::level_of(const Input& in, Cycles cycle) const {
     if (in.tied_high) return true;
+    if (in.signal != nullptr) return in.signal->level_at(cycle);
     // Output: its level; input: the pull-up reads high, a floating input low.
     return pins_.level_at(in.pin, cycle);
 }
 
 double MotorDriverReader::duty_of(const Input& in) const {
     if (in.tied_high) return 1.0;
+    if (in.signal != nullptr) return in.signal->duty();
     return pins_.duty(in.pin);
 }
 
@@ -99,7 +106,12 @@ Cycles MotorDriverReader::next_change_after(std::size_t m, Cycles cycle) const {
     const Wheel& w = wheel_[m];
     Cycles next = kNever;
     for (std::size_t i = 0; i < w.count; ++i) {
-        if (!w.inputs[i].tied_high) next = std::min(next, pins_.next_change_after(w.inputs[i].pin, cycle));
+        const Input& in = w.inputs[i];
+        if (in.signal != nullptr) {
+            next = std::min(next, in.signal->next_change_after(cycle));
+        } else if (!in.tied_high) {
+            next = std::min(next, pins_.next_change_after(in.pin, cycle));
+        }
     }
     return next;
 }
@@ -112,8 +124,8 @@ plant::BridgeInput MotorDriverReader::input_at(std::size_t m, Cycles cycle) cons
 
 plant::BridgeInput MotorDriverReader::averaged(std::size_t m) const {
     AveragedCache& cache = averaged_[m];
-    if (cache.revision == pins_.revision()) return cache.input;
-    cache.revision = pins_.revision();
+    if (cache.revision == revision(m)) return cache.input;
+    cache.revision = revision(m);
     const Wheel& w = wheel_[m];
     plant::DriverInputDuties duties;
     for (std::size_t i = 0; i < w.count; ++i) duties.*(w.inputs[i].duty) = duty_of(w.inputs[i]);
@@ -138,13 +150,22 @@ plant::BridgeInput MotorDriverReader::averaged(std::size_t m) const {
     return b;
 }
 
+uint64_t MotorDriverReader::revision(std::size_t m) const {
+    uint64_t r = pins_.revision();
+    const Wheel& w = wheel_[m];
+    for (std::size_t i = 0; i < w.count; ++i) {
+        if (w.inputs[i].signal != nullptr) r += w.inputs[i].signal->revision();
+    }
+    return r;
+}
+
 std::vector<std::string> MotorDriverReader::wiring_warnings() const {
     std::vector<std::string> out;
     for (std::size_t m = 0; m < 2; ++m) {
         const Wheel& w = wheel_[m];
         for (std::size_t i = 0; i < w.count; ++i) {
             const Input& in = w.inputs[i];
-            if (in.tied_high || pins_.ever_output(in.pin)) continue;
+            if (in.tied_high || in.signal != nullptr || pins_.ever_output(in.pin)) continue;
             const bool pullup = pins_.mode(in.pin) == PinMode::input_pullup;
             out.push_back(fmt::format("pin {} ({}) is never set as an output: the driver sees only {}",
                                       sketch_pin_name(board_description(board_.model), in.pin),

@@ -17,6 +17,8 @@
 //     DRV8833: internal pull-downs, section 7.3.4; L298: no pull-down is
 //     specified and a floating TTL input is undefined: modelled low).
 // Each such input is reported by wiring_warnings() (wiring bugs are real).
+// An input a part's output drives (`IN1: shield.Q2`) reads that LogicSignal
+// (hil/logic_signal.hpp): its level as of the part's last change.
 // A wheel with `reversed: true` has its motor leads swapped: the bridge's
 // forward turns it backwards.
 
@@ -28,6 +30,7 @@
 
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
+#include "hil/parts/part_set.hpp"
 #include "hil/pin_waveforms.hpp"
 #include "plant/bridge_driver.hpp"
 #include "plant/motor_driver.hpp"
@@ -38,7 +41,9 @@ class MotorDriverReader {
 public:
     static constexpr Cycles kNever = PinWaveforms::kNever;
 
-    MotorDriverReader(AvrCore& core, const BoardWiring& board);
+    /// `parts` resolves the inputs a part's output drives ("shield.Q2"); it
+    /// must outlive the reader (nullptr: the board has no such input).
+    MotorDriverReader(AvrCore& core, const BoardWiring& board, const PartSet* parts = nullptr);
 
     /// Applies buffered timer updates due by `cycle` (non-decreasing); call
     /// before reading the drive at that cycle.
@@ -72,6 +77,7 @@ private:
         DriverRole role;
         bool tied_high;
         int pin;
+        const LogicSignal* signal;  ///< a part's output drives it (else a pin or high)
         bool plant::DriverInputLevels::*level;   ///< the truth table's field for this input
         double plant::DriverInputDuties::*duty;  ///< the averaged model's field
     };
@@ -91,6 +97,8 @@ private:
         plant::BridgeInput input{};
     };
     [[nodiscard]] plant::BridgeInput averaged(std::size_t m) const;
+    /// Changes whenever an input of wheel m may have changed (pins and parts' outputs).
+    [[nodiscard]] uint64_t revision(std::size_t m) const;
 
     BoardWiring board_;
     PinWaveforms pins_;

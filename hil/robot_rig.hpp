@@ -10,6 +10,7 @@
 //   PlantCoupler      steps the plant in lockstep, one step ahead of the AVR
 //   EncoderInjector   plant edges => encoder pins at their exact cycles (levels from power-on)
 //   FirmwareVariables globals by ELF symbol
+//   PartSet           the board's `parts:` (a 74HC595, ...), built by type from the PartRegistry
 //   ResetMonitor      restarts the firmware did not ask for (a call to 0): counted, a loop stops the run
 //
 // Construction validates the configuration (throws with the bad value).
@@ -26,6 +27,7 @@
 #include "hil/firmware_variables.hpp"
 #include "hil/motor_driver_reader.hpp"
 #include "hil/plant_coupler.hpp"
+#include "hil/parts/part_set.hpp"
 #include "hil/reset_monitor.hpp"
 #include "hil/uart_link.hpp"
 #include "plant/robot.hpp"
@@ -58,6 +60,8 @@ public:
     EepromPort& eeprom() { return eeprom_; }
     EepromWriteTiming& eeprom_timing() { return eeprom_timing_; }
     MotorDriverReader& driver() { return driver_; }
+    /// The board's `parts:` (hil/parts/part_set.hpp).
+    const PartSet& parts() const { return parts_; }
     EncoderInjector& encoders() { return encoders_; }
     plant::Robot& robot() { return robot_; }
     PlantCoupler& coupler() { return coupler_; }
@@ -72,6 +76,7 @@ private:
     UartLink uart_;
     EepromPort eeprom_;
     EepromWriteTiming eeprom_timing_;
+    PartSet parts_;  ///< before the driver, which reads their outputs
     MotorDriverReader driver_;
     EncoderInjector encoders_;
     plant::Robot robot_;

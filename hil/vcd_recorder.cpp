@@ -66,7 +66,7 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         }
         for (std::size_t r = 0; r < kDriverRoleCount; ++r) {
             const InputWire& in = board.wheel[m].motor.input[r];
-            if (!in.used || in.tied_high) continue;
+            if (!in.on_pin()) continue;
             if (std::any_of(driver_pin_.begin(), driver_pin_.end(), [&](const PinTrace& t) { return t.pin == in.pin; })) continue;
             const bool timer = board_pin(desc, in.pin)->oc.has_value();
             driver_pin_.push_back(PinTrace{in.pin, 0, rig_.driver().pins().level_at(in.pin, now), timer});
@@ -81,7 +81,7 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         }
         for (std::size_t r = 0; r < kDriverRoleCount; ++r) {
             const InputWire& in = board.wheel[m].motor.input[r];
-            if (!in.used || in.tied_high) continue;
+            if (!in.on_pin()) continue;
             for (PinTrace& t : driver_pin_) {
                 if (t.pin != in.pin || t.declared) continue;
                 t.declared = true;

@@ -111,17 +111,17 @@ hil::BoardWiring two_drivers() {
     hil::MotorWiring& right = b.wheel[0].motor;
     right = hil::MotorWiring{};
     right.driver = plant::DriverType::l298n;
-    right[hil::DriverRole::en] = hil::InputWire{true, true, -1, 0};
-    right[hil::DriverRole::in1] = hil::InputWire{true, false, 7, 0};
-    right[hil::DriverRole::in2] = hil::InputWire{true, false, 8, 0};
+    right[hil::DriverRole::en] = hil::InputWire{true, true, -1, 0, {}};
+    right[hil::DriverRole::in1] = hil::InputWire{true, false, 7, 0, {}};
+    right[hil::DriverRole::in2] = hil::InputWire{true, false, 8, 0, {}};
     hil::MotorWiring& left = b.wheel[1].motor;
     left = hil::MotorWiring{};
     left.driver = plant::DriverType::tb6612;
     left.reversed = true;
-    left[hil::DriverRole::pwm] = hil::InputWire{true, false, 9, 0};
-    left[hil::DriverRole::in1] = hil::InputWire{true, false, 4, 0};
-    left[hil::DriverRole::in2] = hil::InputWire{true, false, 5, 0};
-    left[hil::DriverRole::stby] = hil::InputWire{true, false, 14, 0};
+    left[hil::DriverRole::pwm] = hil::InputWire{true, false, 9, 0, {}};
+    left[hil::DriverRole::in1] = hil::InputWire{true, false, 4, 0, {}};
+    left[hil::DriverRole::in2] = hil::InputWire{true, false, 5, 0, {}};
+    left[hil::DriverRole::stby] = hil::InputWire{true, false, 14, 0, {}};
     return b;
 }
 

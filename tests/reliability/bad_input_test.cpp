@@ -89,8 +89,8 @@ std::vector<Case> plant_cases() {
          "--board", "key 'wheels.left.motor.PWM': pin 4 has no timer output"},
         {"TwoFunctionsOnOnePin", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 12}}\n",
          "--board", "key 'wheels.left.encoder.OUT': pin 12 is already used by wheels.right.motor.DIR"},
-        {"UnknownDriver", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: l293d, EN: 5}, encoder: {type: single, OUT: 3}}\n",
-         "--board", "key 'wheels.left.motor.driver': unknown driver 'l293d'"},
+        {"UnknownDriver", "b.yaml", std::string(kBoardHead) + "  left: {motor: {driver: l297, EN: 5}, encoder: {type: single, OUT: 3}}\n",
+         "--board", "key 'wheels.left.motor.driver': unknown driver 'l297'"},
         {"MissingFile", "", "", "--plant", "missing.yaml"},
     };
 }

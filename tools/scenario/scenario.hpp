@@ -56,6 +56,11 @@ struct ExpectPin {  ///< `expect-pin: {pin: 13, value: 1}`: the digital level no
     int pin = 0;
     bool value = false;
 };
+struct ExpectPart {  ///< `expect-part: {part: shield, port: Q2, value: 1}`: a part's output level now
+    std::string part;
+    std::string port;
+    bool value = false;
+};
 struct ExpectWarning {  ///< `expect-warning: regex`: a wiring warning so far matches (a driver input never made an output)
     std::string pattern;
 };
@@ -171,7 +176,7 @@ struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0}`: the robot is d
 struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
 
 using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
-                                ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
+                                ExpectPart, ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
                                 ExpectIsr, ExpectNoTornReads, ExpectEncoders, WaitUntil, ExpectSignal, InjectDrop,
                                 Stall, Battery, Slip, Push, Reset>;
 

@@ -319,7 +319,7 @@ private:
     bool driver_pin(int pin) const {
         for (const hil::WheelWiring& w : rig_->config().board.wheel) {
             for (const hil::InputWire& in : w.motor.input) {
-                if (in.used && !in.tied_high && in.pin == pin) return true;
+                if (in.on_pin() && in.pin == pin) return true;
             }
         }
         return false;
@@ -349,6 +349,14 @@ private:
         const bool level = pin_level(e.pin);
         if (level != e.value) {
             throw StepFailed{Verdict::kFail, fmt::format("expected pin {} = {}, got {}", e.pin, e.value ? 1 : 0, level ? 1 : 0)};
+        }
+        return {};
+    }
+    std::string run_step(const ExpectPart& e) {
+        const bool level = rig_->parts().output(e.part, e.port).level_at(core().cycle());
+        if (level != e.value) {
+            throw StepFailed{Verdict::kFail, fmt::format("expected part {}'s {} = {}, got {}", e.part, e.port,
+                                                         e.value ? 1 : 0, level ? 1 : 0)};
         }
         return {};
     }

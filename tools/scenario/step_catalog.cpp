@@ -21,6 +21,8 @@ const std::vector<StepInfo>& step_catalog() {
         {"expect-pin", "{pin, value}", "the pin's level now", "expect-pin: {pin: 13, value: 0}"},
         {"expect-pwm", "{pin, duty, tol}", "a motor driver input's PWM duty now (decoded from the timer)",
          "expect-pwm: {pin: 10, duty: 0, tol: 0.01}"},
+        {"expect-part", "{part, port, value}", "a part's output level now (board file `parts:`)",
+         "expect-part: {part: shield, port: Q2, value: 1}"},
         {"expect-warning", "regex", "a wiring warning so far matches", "expect-warning: \"never\""},
         {"expect-var", "{name, op, value, type}", "a firmware global, by ELF symbol, now (checked before the run)",
          "expect-var: {name: Count1, type: int16, op: \">=\", value: 0}"},

@@ -53,7 +53,7 @@ int pwm_pin(const Ctx& c) {
         std::vector<int> inputs;  // the wiring's driver inputs on timer pins
         for (const hil::WheelWiring& w : c.wiring()->wheel) {
             for (const hil::InputWire& in : w.motor.input) {
-                if (in.used && !in.tied_high && hil::board_pin(c.board(), in.pin)->oc &&
+                if (in.on_pin() && hil::board_pin(c.board(), in.pin)->oc &&
                     std::find(inputs.begin(), inputs.end(), in.pin) == inputs.end()) {
                     inputs.push_back(in.pin);
                 }
