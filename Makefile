@@ -11,7 +11,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CASE       ?= 1
 OUT        ?= out/run-case$(CASE)
 
-.PHONY: all deps configure build build-run build-asan run test test-asan bench fuzz lint clean help
+.PHONY: all deps configure build build-run build-asan run test test-asan bench fuzz lint docs-parts clean help
 
 all: build
 
@@ -20,6 +20,7 @@ help:
 	@echo "make test    install deps, build, run the static checks (make lint) and every test (ctest)"
 	@echo "make bench   install deps, build, run the benchmarks (build/bench/results.json)"
 	@echo "make lint    cppcheck and clang-tidy (.clang-tidy) on the project's code; any finding fails"
+	@echo "make docs-parts  write the parts table (docs/boards.md) and parts schema from \`ddmr-hil parts\`"
 	@echo "make fuzz    libFuzzer (clang) on each fuzz target for FUZZ_SECONDS (default 600) s"
 	@echo "make deps    install the Debian packages the project needs (apt-get, as root)"
 	@echo "make clean   remove $(BUILD)/, $(BUILD_ASAN)/ and out/"
@@ -102,6 +103,15 @@ lint: configure
 	@printf '%s\n' $(LINT_SOURCES) | xargs -P $(JOBS) -n 1 clang-tidy -p $(BUILD) --quiet \
 	    --warnings-as-errors='*' 2>$(BUILD)/clang-tidy.stderr || \
 	    { grep -v 'warnings* generated\.$$' $(BUILD)/clang-tidy.stderr >&2; echo "clang-tidy: findings above" >&2; exit 1; }
+
+# The docs made from the part registry: docs/boards.md's parts table (between
+# its parts-table markers) and docs/schema/board.schema.json's
+# properties.parts.items, from `ddmr-hil parts --markdown` and `--schema`.
+# Run it after adding or changing a part type; the tests
+# (tests/tools/parts_command_test.cpp) fail until it has been.
+docs-parts: configure
+	cmake --build $(BUILD) -j $(JOBS) --target ddmr-hil
+	/usr/bin/python3 tools/update_parts_docs.py ./$(BUILD)/ddmr-hil
 
 # libFuzzer (clang) on each target for FUZZ_SECONDS, starting from the
 # committed corpus (tests/fuzz/corpus/<target>); new inputs go to

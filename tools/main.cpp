@@ -12,6 +12,7 @@
 #include "report_command.hpp"
 #include "compare_command.hpp"
 #include "merge_command.hpp"
+#include "parts_command.hpp"
 #include "plant_command.hpp"
 #include "run_command.hpp"
 #include "scenario_command.hpp"
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
         ddmr::tools::register_merge_command(app),
         ddmr::tools::register_calibrate_command(app),
         ddmr::tools::register_report_command(app),
+        ddmr::tools::register_parts_command(app),
     };
     try {
         app.parse(argc, argv);
