@@ -78,6 +78,11 @@ struct FailingCase {
         files.emplace_back(std::move(file), std::move(bytes));
         return *this;
     }
+    FailingCase& on_board(std::string yaml) {  ///< the scenario's `board:` (a file beside it)
+        board = "board.yaml";
+        return with_file("board.yaml", std::move(yaml));
+    }
+    std::string board;  ///< the scenario's board file, or the thesis robot
 };
 
 /// The check `steps.back()` (of `kind`) fails with `message`.
@@ -115,6 +120,7 @@ std::string scenario_yaml(const FailingCase& c, bool control) {
     for (std::size_t i = 0; i < c.steps.size(); ++i) {
         if (!control || i != c.under_test) y += "  - " + c.steps[i] + "\n";
     }
+    if (!c.board.empty()) y += "board: " + c.board + "\n";  // after the steps: their lines stay
     return y;
 }
 
@@ -198,6 +204,12 @@ std::vector<FailingCase> serial_and_pin_cases() {
               R"(expected pin 12 to become 0 within 0\.010 s; it stayed 1)"),
         check("expect-pin", "expect_pin_high", kDrive, {"delay: 1ms", "expect-pin: {pin: 13, value: 0}"},
               R"(expected pin 13 = 0, got 1)"),
+        // A 74HC595 whose clocks drive_fixture never moves: its outputs stay low.
+        check("expect-part", "expect_part_never_latched", kDrive, {"delay: 1ms", "expect-part: {part: sr, port: Q0, value: 1}"},
+              R"(expected part sr's Q0 = 1, got 0)")
+            .on_board("parts:\n  - {name: sr, type: 74hc595, DS: 4, SHCP: 5, STCP: 6}\nwheels:\n"
+                      "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
+                      "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n"),
         // No timer drives D10: its static high level is duty 1.
         check("expect-pwm", "expect_pwm_of_a_static_high", kDrive,
               {"delay: 1ms", "expect-pwm: {pin: 10, duty: 0.5, tol: 0.1}"},
