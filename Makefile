@@ -19,7 +19,7 @@ help:
 	@echo "make run     install deps, build, run case $(CASE) (the thesis's 0.6 m circle) in the HIL -> $(OUT)/"
 	@echo "make test    install deps, build, run the static checks (make lint) and every test (ctest)"
 	@echo "make bench   install deps, build, run the benchmarks (build/bench/results.json)"
-	@echo "make lint    cppcheck and clang-tidy (.clang-tidy) on the project's code; any finding fails"
+	@echo "make lint    cppcheck, clang-tidy (.clang-tidy: functions <= 150 lines) and files <= 600 lines; any finding fails"
 	@echo "make docs-parts  write the parts table (docs/boards.md) and parts schema from \`ddmr-hil parts\`"
 	@echo "make fuzz    libFuzzer (clang) on each fuzz target for FUZZ_SECONDS (default 600) s"
 	@echo "make deps    install the Debian packages the project needs (apt-get, as root)"
@@ -94,9 +94,10 @@ bench: build
 # warning an error, one file per process, $(JOBS) at once; its stderr (the
 # per-file counts of warnings in system headers) goes to
 # $(BUILD)/clang-tidy.stderr and is shown, without those counts, on failure.
-LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp tools/*.cpp tools/calibrate/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
+LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp hil/parts/*.cpp tools/*.cpp tools/calibrate/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
 lint: configure
 	@cmake -S . -B $(BUILD) >/dev/null  # compile_commands.json up to date with new sources
+	sh tools/check_file_sizes.sh 600 plant hil tools
 	cppcheck --enable=warning,performance,portability --std=c++17 --language=c++ --inline-suppr \
 	    --suppress=missingIncludeSystem --error-exitcode=1 --quiet -I . -I tools plant hil tools
 	@echo "clang-tidy: $(words $(LINT_SOURCES)) files, $(JOBS) at once"

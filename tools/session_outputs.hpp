@@ -4,6 +4,8 @@
 // iteration), trace.csv (--trace) and the VCD (--vcd). Each writes through
 // an AtomicFileWriter: renamed into place by commit() at the end.
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "firmware_run.hpp"
 #include "firmware_run_plan.hpp"
 #include "hil/loop_tracer.hpp"
+#include "hil/parts/part_set.hpp"
 #include "hil/session.hpp"
 #include "hil/vcd_recorder.hpp"
 #include "hil/vcd_writer.hpp"
@@ -21,22 +24,35 @@ namespace ddmr::tools {
 
 using hil::Cycles;
 
-/// truth.csv: the plant's ground truth, streamed.
+/// truth.csv: the plant's ground truth, streamed; then one column per part's
+/// truth value ("shield.Q": the 74HC595's output byte), when the board has parts.
 class TruthOutput final : public hil::SessionObserver {
 public:
-    explicit TruthOutput(const std::filesystem::path& file) : csv_(file) {
-        csv_.write(truth_csv_header(/*with_drive=*/true));
+    TruthOutput(const std::filesystem::path& file, const hil::PartSet& parts) : csv_(file), parts_(parts) {
+        std::string header = truth_csv_header(/*with_drive=*/true);
+        header.pop_back();  // its newline
+        for (const std::string& c : parts_.truth_columns()) header += "," + c;
+        csv_.write(header + "\n");
     }
     void on_truth(const hil::TruthSample& s) override {
         row_.clear();
         append_truth_row(row_, s, /*with_drive=*/true);
+        if (!parts_.empty()) {
+            row_.pop_back();
+            values_.clear();
+            parts_.truth_values(values_);
+            for (const double v : values_) row_ += fmt::format(",{}", v);
+            row_ += '\n';
+        }
         csv_.write(row_);
     }
     void commit() { csv_.commit(); }
 
 private:
     AtomicFileWriter csv_;
+    const hil::PartSet& parts_;
     std::string row_;
+    std::vector<double> values_;
 };
 
 /// firmware.csv: the contract's globals once per control-loop iteration, and

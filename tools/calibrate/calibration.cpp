@@ -121,16 +121,21 @@ SetScore score(const plant::RobotParams& params, const std::vector<LogRun>& runs
     return s;
 }
 
-CalibrationResult calibrate(const CalibrationSetup& setup) {
-    if (!(setup.range_factor > 1.0)) throw std::invalid_argument("the search range factor must be > 1");
-    CalibrationResult out;
-    make_runs(setup, out.train, out.holdout);
+/// The parameters a fit may search: --fit's keys (each checked), else the
+/// default candidates that are positive in the starting plant (the others in
+/// out.not_fitted), with their starting values.
+struct Candidates {
+    std::vector<std::string> keys;
+    std::vector<double> start_values;
+};
 
+Candidates candidates_of(const CalibrationSetup& setup, CalibrationResult& out) {
     const bool chosen_by_data = setup.keys.empty();
+    Candidates c;
+    std::vector<double>& start_values = c.start_values;
+    std::vector<std::string>& candidate_list = c.keys;
     const std::vector<std::string>& candidates = chosen_by_data ? default_candidate_keys() : setup.keys;
     plant::RobotParams scratch = setup.start;
-    std::vector<double> start_values;
-    std::vector<std::string> candidate_list;
     for (const std::string& key : candidates) {
         // A default candidate at 0 in the starting plant (no friction, an
         // ideal driver) is left out, not an error: there is nothing to scale.
@@ -160,19 +165,16 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
         start_values.push_back(*ref->value);
         candidate_list.push_back(key);
     }
+    return c;
+}
 
-    // What the fitted logs show of each candidate, at the start.
-    if (candidate_list.empty()) throw std::runtime_error("no candidate parameter is positive in the starting plant");
-    say(setup, fmt::format("sensitivities of {} parameter(s) at the start ({} simulations)", candidate_list.size(),
-                           2 * candidate_list.size() * out.train.size() * setup.objective.encoder_phases.size()));
-    const auto predict = [&](const std::vector<std::string>& keys) {
-        return [&setup, &out, keys](const std::vector<double>& v) {
-            return predict_all(with_values(setup.start, keys, v), out.train, setup.objective);
-        };
-    };
-    // The same step as the least squares' Jacobian: small steps see the encoders' jumps.
-    const double step = setup.least_squares.relative_step;
-    const Eigen::MatrixXd s0 = sensitivity_matrix(predict(candidate_list), start_values, step);
+/// The keys to fit: those the start's sensitivities `s0` pin down (chosen by
+/// the data; the others in out.not_fitted), or --fit's, each of which must be.
+std::vector<std::string> chosen_keys(const CalibrationSetup& setup, const Eigen::MatrixXd& s0, const Candidates& c,
+                                     CalibrationResult& out) {
+    const bool chosen_by_data = setup.keys.empty();
+    const std::vector<std::string>& candidate_list = c.keys;
+    const std::vector<double>& start_values = c.start_values;
     std::vector<std::string> keys;
     if (chosen_by_data) {
         const Selection sel = select_identifiable(s0, candidate_list, start_values, setup.max_half_width, log_noise_m(),
@@ -192,7 +194,14 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
         }
         keys = candidate_list;
     }
+    return keys;
+}
 
+/// Each key's search interval: its start divided and multiplied by the range
+/// factor, within the parameter's own range (also out.params' start and bounds).
+std::vector<FitParam> search_box(const CalibrationSetup& setup, const std::vector<std::string>& keys,
+                                 CalibrationResult& out) {
+    plant::RobotParams scratch = setup.start;
     std::vector<FitParam> box;
     for (const std::string& key : keys) {
         const auto ref = plant::find_param(scratch, key);
@@ -206,6 +215,61 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
         out.params.push_back(fp);
         box.push_back({key, v, fp.lo, fp.hi});
     }
+    return box;
+}
+
+/// The warnings of a fit: the logs' own, a spent least-squares budget, a
+/// residual above the quantisation, a value at its search bound.
+void add_fit_warnings(const CalibrationSetup& setup, const std::vector<std::string>& keys,
+                      const std::vector<FitParam>& box, CalibrationResult& out) {
+    // The logs' own warnings (a dump without its unwritten last line) first.
+    for (const std::vector<RobotLog>* logs : {&setup.logs, &setup.holdout_logs}) {
+        for (const RobotLog& l : *logs) out.warnings.insert(out.warnings.end(), l.warnings.begin(), l.warnings.end());
+    }
+    if (out.least_squares.stop == "the evaluation budget is spent") {
+        out.warnings.push_back(fmt::format("the least-squares stage spent its budget ({} evaluations) before it "
+                                           "converged: give a larger --lm-evals",
+                                           out.least_squares.evaluations));
+    }
+    if (out.residual_rms_m > 2.0 * log_noise_m()) {
+        out.warnings.push_back(fmt::format("the fitted plant stays {:.1f} mm RMS from the log's cells' centres (the "
+                                           "quantisation alone gives {:.1f} mm): the model or the start is off, and "
+                                           "the intervals are widened by it",
+                                           out.residual_rms_m * 1e3, log_noise_m() * 1e3));
+    }
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        const FitParam& b = box[i];
+        const double v = out.fit.values[i];
+        if (v <= b.lo * (1.0 + 1e-6) || v >= b.hi * (1.0 - 1e-6)) {
+            out.warnings.push_back(fmt::format("{} = {:.6g} is at its search bound [{:.6g}, {:.6g}]", keys[i], v, b.lo, b.hi));
+        }
+    }
+}
+
+CalibrationResult calibrate(const CalibrationSetup& setup) {
+    if (!(setup.range_factor > 1.0)) throw std::invalid_argument("the search range factor must be > 1");
+    CalibrationResult out;
+    make_runs(setup, out.train, out.holdout);
+
+    const Candidates c = candidates_of(setup, out);
+    const std::vector<std::string>& candidate_list = c.keys;
+    const std::vector<double>& start_values = c.start_values;
+
+    // What the fitted logs show of each candidate, at the start.
+    if (candidate_list.empty()) throw std::runtime_error("no candidate parameter is positive in the starting plant");
+    say(setup, fmt::format("sensitivities of {} parameter(s) at the start ({} simulations)", candidate_list.size(),
+                           2 * candidate_list.size() * out.train.size() * setup.objective.encoder_phases.size()));
+    const auto predict = [&](const std::vector<std::string>& keys) {
+        return [&setup, &out, keys](const std::vector<double>& v) {
+            return predict_all(with_values(setup.start, keys, v), out.train, setup.objective);
+        };
+    };
+    // The same step as the least squares' Jacobian: small steps see the encoders' jumps.
+    const double step = setup.least_squares.relative_step;
+    const Eigen::MatrixXd s0 = sensitivity_matrix(predict(candidate_list), start_values, step);
+    const std::vector<std::string> keys = chosen_keys(setup, s0, c, out);
+
+    std::vector<FitParam> box = search_box(setup, keys, out);
     say(setup, fmt::format("fitting {} on {} log part(s)", fmt::join(keys, ", "), out.train.size()));
     const auto loss = [&](const std::vector<double>& v) {
         const plant::RobotParams p = with_values(setup.start, keys, v);
@@ -241,28 +305,7 @@ CalibrationResult calibrate(const CalibrationSetup& setup) {
     const double sigma = std::max(log_noise_m(), out.residual_rms_m);
     say(setup, "intervals at the fitted point");
     out.identifiability = analyse_identifiability(predict(keys), keys, out.fit.values, sigma, step, setup.model_tolerance_m);
-    // The logs' own warnings (a dump without its unwritten last line) first.
-    for (const std::vector<RobotLog>* logs : {&setup.logs, &setup.holdout_logs}) {
-        for (const RobotLog& l : *logs) out.warnings.insert(out.warnings.end(), l.warnings.begin(), l.warnings.end());
-    }
-    if (out.least_squares.stop == "the evaluation budget is spent") {
-        out.warnings.push_back(fmt::format("the least-squares stage spent its budget ({} evaluations) before it "
-                                           "converged: give a larger --lm-evals",
-                                           out.least_squares.evaluations));
-    }
-    if (out.residual_rms_m > 2.0 * log_noise_m()) {
-        out.warnings.push_back(fmt::format("the fitted plant stays {:.1f} mm RMS from the log's cells' centres (the "
-                                           "quantisation alone gives {:.1f} mm): the model or the start is off, and "
-                                           "the intervals are widened by it",
-                                           out.residual_rms_m * 1e3, log_noise_m() * 1e3));
-    }
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-        const FitParam& b = box[i];
-        const double v = out.fit.values[i];
-        if (v <= b.lo * (1.0 + 1e-6) || v >= b.hi * (1.0 - 1e-6)) {
-            out.warnings.push_back(fmt::format("{} = {:.6g} is at its search bound [{:.6g}, {:.6g}]", keys[i], v, b.lo, b.hi));
-        }
-    }
+    add_fit_warnings(setup, keys, box, out);
     for (std::size_t i = 0; i < keys.size(); ++i) {
         out.params[i].value = out.fit.values[i];
         out.params[i].at_fit = out.identifiability.params[i];

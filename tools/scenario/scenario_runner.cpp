@@ -36,6 +36,7 @@
 #include "hostsim/host_sim.hpp"
 #include "scenario/scenario_expect.hpp"
 #include "scenario/scenario_golden.hpp"
+#include "scenario/scenario_result_json.hpp"
 #include "scenario/step_failed.hpp"
 #include "scenario/text_window.hpp"
 #include "session_outputs.hpp"
@@ -131,7 +132,7 @@ public:
         const auto wall0 = std::chrono::steady_clock::now();
         prepare_output_dir(out_dir_);
         uart_txt_.emplace(out_dir_ / "uart.txt");
-        truth_.emplace(out_dir_ / "truth.csv");
+        truth_.emplace(out_dir_ / "truth.csv", rig_->parts());
         session_->attach(*truth_);
         for (const Step& step : s_.steps) {
             StepOutcome o{step.line, step.kind, step.text, false, 0, {}};
@@ -519,38 +520,7 @@ private:
     }
 
     void write_artifacts(const ScenarioResult& r) {
-        json steps = json::array();
-        for (const auto& o : r.steps) {
-            steps.push_back({{"line", o.line}, {"kind", o.kind}, {"step", o.text}, {"passed", o.passed},
-                             {"cycle", o.cycle}, {"t_s", seconds(o.cycle)}, {"message", o.message}});
-        }
-        const json result = {
-            {"name", r.name},
-            {"file", r.file.string()},
-            {"firmware", s_.firmware.string()},
-            {"sketch", s_.sketch_build ? [&] {
-                 // Built (or found) before the suite ran: whether this worker found it cached says nothing.
-                 json j = sketch_build_json(*s_.sketch_build);
-                 j.erase("from_cache");
-                 return j;
-             }()
-                                       : json(nullptr)},
-            {"platformio", s_.firmware_source},
-            {"seed", s_.seed},
-            {"baud", s_.baud},
-            {"verdict", to_string(r.verdict)},
-            {"exit_code", exit_code(r.verdict)},
-            {"message", r.message},
-            {"cycles", r.cycles},
-            {"clock_hz", r.clock_hz},
-            {"sim_seconds", r.sim_seconds},
-            {"steps", steps},
-            {"steps_total", s_.steps.size()},
-            {"uart_bytes", r.uart_bytes},
-            {"framing_errors", r.framing_errors},
-            {"board", s_.board_file ? json(s_.board_file->string()) : json(nullptr)},
-            {"wiring_warnings", rig_->driver().wiring_warnings()},
-        };
+        const json result = scenario_result_json(s_, r, rig_->driver().wiring_warnings());
         const hil::EepromImage image = rig_->eeprom().read_all();
         uart_txt_->commit();
         write_file_atomic(out_dir_ / "eeprom.bin",
