@@ -18,48 +18,34 @@ namespace {
 
 using plant::DriverType;
 
-/// What a driver type has, per its datasheet's pin names.
-struct DriverSpec {
-    DriverType type;
-    const char* key;
-    const char* label;
-    std::vector<DriverRole> required;
-    std::vector<DriverRole> optional_high;  ///< optional, `high` when left out (nSLEEP pulled up)
-    std::vector<DriverRole> may_be_high;    ///< `high` allowed (a jumper or a pull-up)
-    std::vector<DriverRole> pwm_only;       ///< needs a timer output (named PWM on the module)
-    std::vector<DriverRole> shared;         ///< one pin for both motors of a dual module
-};
-
-const std::vector<DriverSpec>& driver_specs() {
-    using R = DriverRole;
-    static const std::vector<DriverSpec> specs = {
-        {DriverType::dir_pwm, "dir-pwm", "L298 shield", {R::pwm, R::dir}, {}, {}, {R::pwm}, {}},
-        {DriverType::l298n, "l298n", "L298N", {R::en, R::in1, R::in2}, {}, {R::en}, {}, {}},
-        {DriverType::tb6612, "tb6612", "TB6612", {R::pwm, R::in1, R::in2, R::stby}, {}, {R::stby}, {R::pwm},
-         {R::stby}},
-        {DriverType::drv8833, "drv8833", "DRV8833", {R::in1, R::in2}, {R::sleep}, {R::sleep}, {}, {R::sleep}},
-        {DriverType::l293d, "l293d", "L293D", {R::en, R::in1, R::in2}, {}, {R::en}, {}, {}},
-    };
-    return specs;
+/// The motor driver part types (hil/parts/driver_*.cpp), in the registry's order.
+std::vector<const PartType*> driver_types() {
+    std::vector<const PartType*> out;
+    for (const PartType* t : PartRegistry::global().types()) {
+        if (t->motor_driver) out.push_back(t);
+    }
+    return out;
 }
 
 /// "dir-pwm, l298n, tb6612, drv8833 or l293d".
 std::string driver_key_list() {
     std::string out;
-    const auto& specs = driver_specs();
-    for (std::size_t i = 0; i < specs.size(); ++i) {
-        out += i == 0 ? "" : (i + 1 == specs.size() ? " or " : ", ");
-        out += specs[i].key;
+    const auto types = driver_types();
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        out += i == 0 ? "" : (i + 1 == types.size() ? " or " : ", ");
+        out += types[i]->type;
     }
     return out;
 }
 
-const DriverSpec& spec_of(DriverType t) {
-    for (const DriverSpec& s : driver_specs()) {
-        if (s.type == t) return s;
+const PartType& driver_type_of(DriverType t) {
+    for (const PartType* type : driver_types()) {
+        if (type->motor_driver->type == t) return *type;
     }
-    throw std::logic_error("no driver spec");
+    throw std::logic_error("no part type for this driver");
 }
+
+const MotorDriverSpec& spec_of(DriverType t) { return *driver_type_of(t).motor_driver; }
 
 bool contains(const std::vector<DriverRole>& v, DriverRole r) { return std::find(v.begin(), v.end(), r) != v.end(); }
 
@@ -71,12 +57,15 @@ constexpr std::array<DriverRole, kDriverRoleCount> kAllRoles = {DriverRole::pwm,
     throw std::invalid_argument(fmt::format("{}: key '{}': {}", file_line(source, line), key, what));
 }
 
-std::string motor_key(std::size_t m, DriverRole r) {
-    return fmt::format("wheels.{}.motor.{}", wheel_name(m), role_key(r));
+/// The board-file key of wheel m's driver input r: wheels.W.motor.R, or parts.NAME.R.
+std::string motor_key(const BoardWiring& b, std::size_t m, DriverRole r) {
+    const std::string& at = b.wheel[m].motor.key;
+    return fmt::format("{}.{}", at.empty() ? fmt::format("wheels.{}.motor", wheel_name(m)) : at, role_key(r));
 }
 
 std::string encoder_key(const EncoderWiring& e, std::size_t m, unsigned s) {
-    return fmt::format("wheels.{}.encoder.{}", wheel_name(m), encoder_signal_key(e, s));
+    return fmt::format("{}.{}", e.key.empty() ? fmt::format("wheels.{}.encoder", wheel_name(m)) : e.key,
+                       encoder_signal_key(e, s));
 }
 
 /// The console USART's pins (0 and 1) carry Serial, the USB serial port.
@@ -110,8 +99,8 @@ const char* role_key(DriverRole r) {
 
 const char* wheel_name(std::size_t m) { return m == 0 ? "right" : "left"; }
 
-const char* driver_key(DriverType t) { return spec_of(t).key; }
-const char* driver_label(DriverType t) { return spec_of(t).label; }
+const char* driver_key(DriverType t) { return driver_type_of(t).type.c_str(); }
+const char* driver_label(DriverType t) { return spec_of(t).label.c_str(); }
 
 std::string input_label(const BoardWiring& b, std::size_t m, DriverRole r) {
     return fmt::format("{} {} {}", wheel_name(m), driver_label(b.wheel[m].motor.driver), role_key(r));
@@ -150,12 +139,12 @@ void check_part_feeds(const BoardWiring& board) {
             const auto part = std::find_if(board.parts.begin(), board.parts.end(),
                                            [&](const PartEntry& p) { return p.name == ref->part; });
             if (part == board.parts.end()) {
-                fail(board.source, in.line, motor_key(m, r),
+                fail(board.source, in.line, motor_key(board, m, r),
                      fmt::format("'{}': no part is called '{}': the input is fed by nothing", in.part_output, ref->part));
             }
             const PartType* type = registry.find(part->type);
             if (type == nullptr || !type->has_port(ref->port)) {
-                fail(board.source, in.line, motor_key(m, r),
+                fail(board.source, in.line, motor_key(board, m, r),
                      fmt::format("'{}': part '{}' ({}) has no output '{}': the input is fed by nothing", in.part_output,
                                  ref->part, part->type, ref->port));
             }
@@ -188,13 +177,13 @@ void validate(const BoardWiring& board) {
     };
     for (std::size_t m = 0; m < 2; ++m) {
         const MotorWiring& w = board.wheel[m].motor;
-        const DriverSpec& spec = spec_of(w.driver);
+        const MotorDriverSpec& spec = spec_of(w.driver);
         for (const DriverRole r : kAllRoles) {
             const InputWire& in = w[r];
             if (!in.on_pin()) continue;
-            claim(in.pin, in.line, Use{motor_key(m, r), m, r, contains(spec.shared, r)});
+            claim(in.pin, in.line, Use{motor_key(board, m, r), m, r, contains(spec.shared, r)});
             if (contains(spec.pwm_only, r) && !board_pin(desc, in.pin)->oc) {
-                fail(src, in.line, motor_key(m, r),
+                fail(src, in.line, motor_key(board, m, r),
                      fmt::format("pin {} has no timer output, so analogWrite gives only LOW or HIGH there; the "
                                  "PWM pins are {}",
                                  in.pin, pwm_pin_list(desc)));
@@ -263,7 +252,7 @@ void check_host_serial_pins(const BoardWiring& board, const UsartDesc& usart) {
     for (std::size_t m = 0; m < 2; ++m) {
         for (const DriverRole r : kAllRoles) {
             const InputWire& in = board.wheel[m].motor[r];
-            if (in.on_pin()) check(in.pin, in.line, motor_key(m, r));
+            if (in.on_pin()) check(in.pin, in.line, motor_key(board, m, r));
         }
         const EncoderWiring& e = board.wheel[m].encoder;
         for (unsigned s = 0; s < e.signals(); ++s) check(e.pin[s], e.line[s], encoder_key(e, m, s));
@@ -298,20 +287,23 @@ struct Reader : YamlReader {
         }
         return *p;
     }
+    /// `wheels.W.motor`: {driver: TYPE, <its inputs>, reversed}.
     MotorWiring motor(const YAML::Node& n, const std::string& key) const {
         mapping(n, key);
         if (!n["driver"]) fail(n, key + ".driver", fmt::format("missing ({})", driver_key_list()));
         const std::string type = n["driver"].Scalar();
-        const DriverSpec* spec = nullptr;
-        for (const DriverSpec& s : driver_specs()) {
-            if (type == s.key) spec = &s;
-        }
-        if (spec == nullptr) {
+        const PartType* part = PartRegistry::global().find(type);
+        if (part == nullptr || !part->motor_driver) {
             fail(n["driver"], key + ".driver", fmt::format("unknown driver '{}' ({})", type, driver_key_list()));
         }
+        return motor_inputs(n, key, *part->motor_driver, {"driver", "reversed"});
+    }
+    /// A driver's inputs by role, and `reversed`, from mapping `n` (whose other keys are `allowed`).
+    MotorWiring motor_inputs(const YAML::Node& n, const std::string& key, const MotorDriverSpec& s,
+                             std::vector<std::string> allowed) const {
+        const MotorDriverSpec* spec = &s;
         MotorWiring w;
         w.driver = spec->type;
-        std::vector<std::string> allowed = {"driver", "reversed"};
         for (const DriverRole r : spec->required) allowed.emplace_back(role_key(r));
         for (const DriverRole r : spec->optional_high) allowed.emplace_back(role_key(r));
         only_keys(n, key, allowed);
@@ -353,20 +345,24 @@ struct Reader : YamlReader {
         return w;
     }
 
+    /// `wheels.W.encoder`: {type: TYPE, <its outputs>, reversed}.
     EncoderWiring encoder(const YAML::Node& n, const std::string& key) const {
         mapping(n, key);
         if (!n["type"]) fail(n, key + ".type", "missing (single or quadrature)");
         const std::string type = n["type"].Scalar();
-        EncoderWiring e;
-        if (type == "single") {
-            e.kind = EncoderKind::single;
-            only_keys(n, key, {"type", "OUT", "reversed"});
-        } else if (type == "quadrature") {
-            e.kind = EncoderKind::quadrature;
-            only_keys(n, key, {"type", "A", "B", "reversed"});
-        } else {
+        const PartType* part = PartRegistry::global().find(type);
+        if (part == nullptr || !part->encoder) {
             fail(n["type"], key + ".type", fmt::format("unknown encoder type '{}' (single or quadrature)", type));
         }
+        return encoder_pins(n, key, *part->encoder, {"type", "reversed"});
+    }
+    /// An encoder's output pins and `reversed` from mapping `n` (whose other keys are `allowed`).
+    EncoderWiring encoder_pins(const YAML::Node& n, const std::string& key, const EncoderSpec& spec,
+                               std::vector<std::string> allowed) const {
+        EncoderWiring e;
+        e.kind = spec.kind;
+        for (const std::string& signal : spec.signals) allowed.push_back(signal);
+        only_keys(n, key, allowed);
         if (n["reversed"]) e.reversed = boolean(n["reversed"], key + ".reversed");
         for (unsigned s = 0; s < e.signals(); ++s) {
             const char* name = encoder_signal_key(e, s);
@@ -378,6 +374,83 @@ struct Reader : YamlReader {
         return e;
     }
 };
+
+/// Where each wheel's driver and encoder came from: a parts: entry's key, or empty.
+struct WheelSources {
+    std::array<std::string, 2> motor, encoder;
+};
+
+/// The parts: list: a driver or an encoder with `wheel:` goes on its wheel,
+/// any other part into b.parts.
+void read_parts(const Reader& r, const YAML::Node& list, BoardWiring& b, WheelSources& from) {
+    const PartRegistry& registry = PartRegistry::global();
+    std::vector<PartEntry> entries = read_part_entries(
+        r, list, [&r](const YAML::Node& n, const std::string& key) { return r.pin(n, key); }, registry);
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        const PartType& type = *registry.find(entries[i].type);
+        if (!type.on_wheel()) {
+            b.parts.push_back(std::move(entries[i]));
+            continue;
+        }
+        const std::size_t m = entries[i].values.at("wheel").text == "right" ? 0 : 1;
+        const std::string key = "parts." + entries[i].name;
+        std::string& source = type.motor_driver ? from.motor[m] : from.encoder[m];
+        if (!source.empty()) {
+            r.fail(list[i]["wheel"], key + ".wheel",
+                   fmt::format("the {} wheel's {} is given twice (also {})", wheel_name(m),
+                               type.motor_driver ? "motor driver" : "encoder", source));
+        }
+        source = key;
+        const std::vector<std::string> allowed = {"name", "type", "wheel", "reversed"};
+        if (type.motor_driver) {
+            b.wheel[m].motor = r.motor_inputs(list[i], key, *type.motor_driver, allowed);
+            b.wheel[m].motor.key = key;
+        } else {
+            b.wheel[m].encoder = r.encoder_pins(list[i], key, *type.encoder, allowed);
+            b.wheel[m].encoder.key = key;
+        }
+    }
+}
+
+/// The wheels: shorthand, for what the parts: list did not give: each wheel
+/// needs a motor driver; a wheel with no encoder has none.
+void read_wheels(const Reader& r, const YAML::Node& root, BoardWiring& b, const WheelSources& from) {
+    const bool parts_drive_both = !from.motor[0].empty() && !from.motor[1].empty();
+    if (!root["wheels"]) {
+        if (!parts_drive_both) r.fail(root, "wheels", "missing: the left and right wheels' motor and encoder wiring");
+        for (std::size_t m = 0; m < 2; ++m) {
+            if (from.encoder[m].empty()) b.wheel[m].encoder.kind = EncoderKind::none;
+        }
+        return;
+    }
+    const YAML::Node wheels = r.mapping(root["wheels"], "wheels");
+    r.only_keys(wheels, "wheels", {"left", "right"});
+    for (std::size_t m = 0; m < 2; ++m) {
+        const std::string key = fmt::format("wheels.{}", wheel_name(m));
+        const YAML::Node w = wheels[wheel_name(m)];
+        const bool listed = static_cast<bool>(w);
+        if (!listed && from.motor[m].empty()) r.fail(wheels, key, "missing: both wheels must be described");
+        if (listed) {
+            r.mapping(w, key);
+            r.only_keys(w, key, {"motor", "encoder"});
+        }
+        const bool motor = listed && w["motor"];
+        if (motor && !from.motor[m].empty()) {
+            r.fail(w["motor"], key + ".motor", fmt::format("given twice: {} is this wheel's motor driver", from.motor[m]));
+        }
+        if (!motor && from.motor[m].empty()) r.fail(w, key + ".motor", "missing");
+        if (motor) b.wheel[m].motor = r.motor(w["motor"], key + ".motor");
+        const bool encoder = listed && w["encoder"];
+        if (encoder && !from.encoder[m].empty()) {
+            r.fail(w["encoder"], key + ".encoder", fmt::format("given twice: {} is this wheel's encoder", from.encoder[m]));
+        }
+        if (encoder) {
+            b.wheel[m].encoder = r.encoder(w["encoder"], key + ".encoder");
+        } else if (from.encoder[m].empty()) {
+            b.wheel[m].encoder.kind = EncoderKind::none;  // a robot without encoders
+        }
+    }
+}
 
 }  // namespace
 
@@ -400,28 +473,9 @@ BoardWiring load_board_file(const std::filesystem::path& path) {
         b.model = *model;
         r.desc = &board_description(b.model);
     }
-    if (root["parts"]) {
-        b.parts = read_part_entries(
-            r, root["parts"], [&r](const YAML::Node& n, const std::string& key) { return r.pin(n, key); },
-            PartRegistry::global());
-    }
-    if (!root["wheels"]) r.fail(root, "wheels", "missing: the left and right wheels' motor and encoder wiring");
-    const YAML::Node wheels = r.mapping(root["wheels"], "wheels");
-    r.only_keys(wheels, "wheels", {"left", "right"});
-    for (std::size_t m = 0; m < 2; ++m) {
-        const std::string key = fmt::format("wheels.{}", wheel_name(m));
-        const YAML::Node w = wheels[wheel_name(m)];
-        if (!w) r.fail(wheels, key, "missing: both wheels must be described");
-        r.mapping(w, key);
-        r.only_keys(w, key, {"motor", "encoder"});
-        if (!w["motor"]) r.fail(w, key + ".motor", "missing");
-        b.wheel[m].motor = r.motor(w["motor"], key + ".motor");
-        if (w["encoder"]) {
-            b.wheel[m].encoder = r.encoder(w["encoder"], key + ".encoder");
-        } else {
-            b.wheel[m].encoder.kind = EncoderKind::none;  // a robot without encoders
-        }
-    }
+    WheelSources from;
+    if (root["parts"]) read_parts(r, root["parts"], b, from);
+    read_wheels(r, root, b, from);
     try {
         validate(b);
     } catch (const std::invalid_argument& e) {

@@ -27,15 +27,10 @@
 
 #include "hil/board_description.hpp"
 #include "hil/parts/part.hpp"
+#include "hil/parts/wheel_part_spec.hpp"
 #include "plant/motor_driver.hpp"
 
 namespace ddmr::hil {
-
-/// A motor driver input, named as printed on the modules.
-enum class DriverRole : uint8_t { pwm, dir, en, in1, in2, stby, sleep };
-inline constexpr std::size_t kDriverRoleCount = 7;
-/// The board-file key: "PWM", "DIR", "EN", "IN1", "IN2", "STBY", "SLEEP".
-const char* role_key(DriverRole r);
 
 /// What one driver input is connected to.
 struct InputWire {
@@ -52,18 +47,17 @@ struct MotorWiring {
     plant::DriverType driver = plant::DriverType::dir_pwm;
     std::array<InputWire, kDriverRoleCount> input{};
     bool reversed = false;  ///< motor leads swapped: the bridge's forward turns the wheel backwards
+    std::string key;        ///< where the board file wires it ("parts.m1"); empty: wheels.W.motor
     [[nodiscard]] const InputWire& operator[](DriverRole r) const { return input[static_cast<std::size_t>(r)]; }
     [[nodiscard]] InputWire& operator[](DriverRole r) { return input[static_cast<std::size_t>(r)]; }
 };
-
-/// none: the wheel has no encoder (many kit robots): the plant still turns, no pin is driven.
-enum class EncoderKind : uint8_t { none, single, quadrature };
 
 struct EncoderWiring {
     EncoderKind kind = EncoderKind::single;
     std::array<int, 2> pin{-1, -1};  ///< [0]: OUT or A, [1]: B (quadrature)
     std::array<int, 2> line{0, 0};   ///< board-file lines
     bool reversed = false;           ///< quadrature channels swapped (B leads A going forward)
+    std::string key;                 ///< where the board file wires it ("parts.enc_l"); empty: wheels.W.encoder
     [[nodiscard]] unsigned signals() const {
         return kind == EncoderKind::quadrature ? 2U : (kind == EncoderKind::single ? 1U : 0U);
     }

@@ -9,5 +9,12 @@
 namespace ddmr::hil {
 
 PartType shift_register_74hc595_type();  // shift_register_74hc595.cpp
+PartType driver_dir_pwm_type();           // driver_dir_pwm.cpp
+PartType driver_l298n_type();             // driver_l298n.cpp
+PartType driver_tb6612_type();            // driver_tb6612.cpp
+PartType driver_drv8833_type();           // driver_drv8833.cpp
+PartType driver_l293d_type();             // driver_l293d.cpp
+PartType encoder_single_type();           // encoder_single.cpp
+PartType encoder_quadrature_type();       // encoder_quadrature.cpp
 
 }  // namespace ddmr::hil

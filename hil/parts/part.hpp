@@ -17,11 +17,13 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "hil/avr_core.hpp"
 #include "hil/logic_signal.hpp"
+#include "hil/parts/wheel_part_spec.hpp"
 #include "plant/robot_params.hpp"
 
 namespace ddmr::hil {
@@ -119,8 +121,13 @@ struct PartType {
     std::string datasheet;  ///< the source of its behaviour
     std::vector<PartKey> keys;
     std::vector<PartPort> ports;
+    /// The factory; none for a wheel part (a motor driver or an encoder:
+    /// read and driven by the rig, wheel_part_spec.hpp).
     std::function<std::unique_ptr<Part>(const PartContext&)> create;
+    std::optional<MotorDriverSpec> motor_driver;  ///< set: a motor driver type
+    std::optional<EncoderSpec> encoder;           ///< set: an encoder type
 
+    [[nodiscard]] bool on_wheel() const { return motor_driver.has_value() || encoder.has_value(); }
     [[nodiscard]] const PartKey* key(const std::string& name) const;
     [[nodiscard]] bool has_port(const std::string& name) const;
 };

@@ -18,7 +18,7 @@ PartRegistry& PartRegistry::global() {
 
 void PartRegistry::add(PartType type) {
     if (type.type.empty()) throw std::invalid_argument("a part type needs a name");
-    if (!type.create) throw std::invalid_argument(fmt::format("part type '{}' has no factory", type.type));
+    if (!type.create && !type.on_wheel()) throw std::invalid_argument(fmt::format("part type '{}' has no factory", type.type));
     std::set<std::string> names{"name", "type"};
     for (const PartKey& k : type.keys) {
         if (!names.insert(k.name).second) {

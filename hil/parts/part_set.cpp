@@ -103,12 +103,16 @@ std::vector<std::size_t> part_order(const std::vector<PartEntry>& entries, const
 }
 
 PartSet::PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const PartRegistry& registry,
-                 std::function<plant::Pose()> pose)
+                 const std::function<plant::Pose()>& pose)
     : core_(core) {
     for (const std::size_t i : part_order(entries, registry, "the board")) {
         const PartEntry& entry = entries[i];
         const PartType* type = registry.find(entry.type);
         if (type == nullptr) throw std::invalid_argument(fmt::format("part '{}': unknown type '{}'", entry.name, entry.type));
+        if (type->on_wheel()) {
+            throw std::invalid_argument(fmt::format("part '{}' ({}) sits on a wheel: the board file puts it there", entry.name,
+                                                    entry.type));
+        }
         const PartContext ctx(
             core_, entry, [this, &entry](const std::string& key) -> const LogicSignal& { return input_signal(entry, key); },
             pose);
@@ -155,7 +159,12 @@ const LogicSignal& PartSet::signal(const std::string& ref) const {
 std::vector<std::string> PartSet::truth_columns() const {
     std::vector<std::string> out;
     for (const auto& [name, part] : parts_) {
-        for (const std::string& c : part->truth_columns()) out.push_back(name + "." + c);
+        for (const std::string& c : part->truth_columns()) {
+            std::string column = name;
+            column += '.';
+            column += c;
+            out.push_back(std::move(column));
+        }
     }
     return out;
 }

@@ -40,7 +40,7 @@ std::vector<std::size_t> part_order(const std::vector<PartEntry>& entries, const
 class PartSet {
 public:
     PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const PartRegistry& registry,
-            std::function<plant::Pose()> pose);
+            const std::function<plant::Pose()>& pose);
     ~PartSet();
     PartSet(const PartSet&) = delete;
     PartSet& operator=(const PartSet&) = delete;

@@ -114,6 +114,48 @@ TEST(BoardParts, EachMistakeIsRefusedWithFileLineAndKey) {
     }
 }
 
+// Drivers and encoders are part types too: a parts: entry with `wheel:` is the
+// same wiring as the wheels: shorthand.
+TEST(BoardParts, DriversAndEncodersAsPartsAreTheWheelsShorthand) {
+    const std::string as_parts = kShieldParts +
+        "  - {name: m1, type: l293d, wheel: right, EN: 11, IN1: shield.Q2, IN2: shield.Q3}\n"   // 9
+        "  - {name: m2, type: l293d, wheel: left, EN: 3, IN1: shield.Q1, IN2: shield.Q4}\n"     // 10
+        "  - {name: e1, type: single, wheel: right, OUT: A0}\n"                                  // 11
+        "  - {name: e2, type: quadrature, wheel: left, A: A1, B: A2, reversed: true}\n";         // 12
+    TempDir dir;
+    std::ofstream(dir / "parts.yaml") << as_parts;
+    std::ofstream(dir / "wheels.yaml") << kShieldParts + kWheels;
+    const hil::BoardWiring p = hil::load_board_file(dir / "parts.yaml");
+    const hil::BoardWiring w = hil::load_board_file(dir / "wheels.yaml");
+    ASSERT_EQ(p.parts.size(), 1U);  // the wheel parts are on the wheels
+    for (std::size_t m = 0; m < 2; ++m) {
+        EXPECT_EQ(p.wheel[m].motor.driver, w.wheel[m].motor.driver);
+        for (std::size_t r = 0; r < hil::kDriverRoleCount; ++r) {
+            EXPECT_EQ(p.wheel[m].motor.input[r].pin, w.wheel[m].motor.input[r].pin);
+            EXPECT_EQ(p.wheel[m].motor.input[r].part_output, w.wheel[m].motor.input[r].part_output);
+        }
+    }
+    EXPECT_EQ(p.wheel[0].encoder.kind, hil::EncoderKind::single);
+    EXPECT_EQ(p.wheel[1].encoder.kind, hil::EncoderKind::quadrature);
+    EXPECT_EQ(p.wheel[1].encoder.pin, (std::array<int, 2>{15, 16}));
+    EXPECT_TRUE(p.wheel[1].encoder.reversed);
+    // Mistakes name the part's key.
+    const std::string clash = kShieldParts +
+        "  - {name: m1, type: l293d, wheel: right, EN: 11, IN1: shield.Q2, IN2: 8}\n"
+        "  - {name: m2, type: l293d, wheel: left, EN: 3, IN1: shield.Q1, IN2: shield.Q4}\n";
+    EXPECT_NE(load_error(clash).find("b.yaml:5: key 'parts.shield.DS': pin 8 is already used by parts.m1.IN2"),
+              std::string::npos) << load_error(clash);
+    const std::string twice = as_parts + kWheels;
+    EXPECT_NE(load_error(twice).find("key 'wheels.right.motor': given twice: parts.m1 is this wheel's motor driver"),
+              std::string::npos) << load_error(twice);
+    const std::string two_drivers = as_parts + "  - {name: m3, type: l298n, wheel: left, EN: 5, IN1: 6, IN2: 9}\n";
+    EXPECT_NE(load_error(two_drivers).find("b.yaml:13: key 'parts.m3.wheel': the left wheel's motor driver is given "
+                                           "twice (also parts.m2)"),
+              std::string::npos) << load_error(two_drivers);
+    const std::string no_wheel = kShieldParts + "  - {name: m1, type: l293d, EN: 11, IN1: shield.Q2, IN2: shield.Q3}\n";
+    EXPECT_NE(load_error(no_wheel).find("key 'parts.m1.wheel': missing"), std::string::npos) << load_error(no_wheel);
+}
+
 TEST(BoardParts, TwoPartsMayShareAnInputPin) {
     // Two 74HC595s on one clock and one latch, the second fed by the first's Q7S.
     const std::string yaml =
