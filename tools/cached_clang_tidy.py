@@ -185,7 +185,7 @@ def main(argv):
     sys.stderr.flush()
     if key is not None and done.returncode == 0 and not FINDING.search(done.stdout + done.stderr):
         record_clean(key, source)
-    return done.returncode
+    return done.returncode if done.returncode >= 0 else 128 - done.returncode  # killed: 128+signal, as sh says
 
 
 if __name__ == "__main__":
