@@ -20,6 +20,7 @@ help:
 	@echo "make test    install deps, build, run the static checks (make lint) and every test (ctest)"
 	@echo "make bench   install deps, build, run the benchmarks (build/bench/results.json)"
 	@echo "make lint    cppcheck, clang-tidy (.clang-tidy: functions <= 150 lines) and files <= 600 lines; any finding fails"
+	@echo "            (clang-tidy skips files unchanged since a clean run; LINT_CACHE=0 checks all)"
 	@echo "make docs-parts  write the parts table (docs/boards.md) and parts schema from \`ddmr-hil parts\`"
 	@echo "make fuzz    libFuzzer (clang) on each fuzz target for FUZZ_SECONDS (default 600) s"
 	@echo "make deps    install the Debian packages the project needs (apt-get, as root)"
@@ -94,6 +95,13 @@ bench: build
 # warning an error, one file per process, $(JOBS) at once; its stderr (the
 # per-file counts of warnings in system headers) goes to
 # $(BUILD)/clang-tidy.stderr and is shown, without those counts, on failure.
+# Each file goes through tools/cached_clang_tidy.py: a file whose preprocessed
+# text, compile command, .clang-tidy, clang-tidy version and arguments all
+# match an earlier clean run is not checked again (the cache is in
+# ${XDG_CACHE_HOME:-~/.cache}/ddmr-hil/clang-tidy/; files with findings are
+# never cached). LINT_CACHE=0 runs clang-tidy on every file.
+LINT_CACHE ?= 1
+LINT_TIDY = $(if $(filter 0,$(LINT_CACHE)),clang-tidy,/usr/bin/python3 tools/cached_clang_tidy.py)
 LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp hil/parts/*.cpp tools/*.cpp tools/calibrate/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
 lint: configure
 	@cmake -S . -B $(BUILD) >/dev/null  # compile_commands.json up to date with new sources
@@ -101,7 +109,7 @@ lint: configure
 	cppcheck --enable=warning,performance,portability --std=c++17 --language=c++ --inline-suppr \
 	    --suppress=missingIncludeSystem --error-exitcode=1 --quiet -I . -I tools plant hil tools
 	@echo "clang-tidy: $(words $(LINT_SOURCES)) files, $(JOBS) at once"
-	@printf '%s\n' $(LINT_SOURCES) | xargs -P $(JOBS) -n 1 clang-tidy -p $(BUILD) --quiet \
+	@printf '%s\n' $(LINT_SOURCES) | xargs -P $(JOBS) -n 1 $(LINT_TIDY) -p $(BUILD) --quiet \
 	    --warnings-as-errors='*' 2>$(BUILD)/clang-tidy.stderr || \
 	    { grep -v 'warnings* generated\.$$' $(BUILD)/clang-tidy.stderr >&2; echo "clang-tidy: findings above" >&2; exit 1; }
 
