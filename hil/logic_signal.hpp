@@ -16,6 +16,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hil/avr_core.hpp"
@@ -45,21 +46,35 @@ public:
     /// What the messages call it: "pin 8", "shield.Q2".
     [[nodiscard]] const std::string& label() const { return label_; }
 
-    /// `listener` is called at each change from now on (listening does not change the signal).
-    void add_listener(Listener listener) const { listeners_.push_back(std::move(listener)); }
+    /// `listener` is called at each change from now on (listening does not
+    /// change the signal); the id removes it (a listener that dies first must).
+    using ListenerId = uint64_t;
+    ListenerId add_listener(Listener listener) const {
+        listeners_.emplace_back(++last_id_, std::move(listener));
+        return last_id_;
+    }
+    void remove_listener(ListenerId id) const {
+        for (auto it = listeners_.begin(); it != listeners_.end(); ++it) {
+            if (it->first == id) {
+                listeners_.erase(it);
+                return;
+            }
+        }
+    }
 
 protected:
     explicit LogicSignal(std::string label) : label_(std::move(label)) {}
     /// Counts a change and tells the listeners.
     void changed(bool level, Cycles cycle) {
         ++revision_;
-        for (const Listener& l : listeners_) l(level, cycle);
+        for (const auto& [id, listener] : listeners_) listener(level, cycle);
     }
 
 private:
     std::string label_;
     uint64_t revision_ = 0;
-    mutable std::vector<Listener> listeners_;
+    mutable std::vector<std::pair<ListenerId, Listener>> listeners_;
+    mutable ListenerId last_id_ = 0;
 };
 
 /// A signal a part sets: its level changes when the part says so.

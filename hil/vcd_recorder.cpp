@@ -108,6 +108,12 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
         isr_.push_back(h);
     }
     loop_ = writer_.add_vector("firmware", "loop_iteration", 32, 0);
+    for (const PartSet::Output& o : rig_.parts().outputs()) {
+        const VcdWriter::SignalId id = writer_.add_wire(o.part, o.port, o.signal->level_at(now));
+        const auto listener = o.signal->add_listener(
+            [this, id](bool level, Cycles cycle) { writer_.change(id, cycle, level ? 1 : 0); });
+        part_outputs_.push_back(PartTrace{o.signal, listener});
+    }
 
     writer_.add_comment("ddmr-hil HIL run; time in ns of AVR time (cycle x 1e9 / " +
                         std::to_string(core_.clock_hz()) + " Hz, rounded down)");
@@ -154,6 +160,7 @@ VcdRecorder::~VcdRecorder() {
     avr_irq_unregister_notify(rx_irq_, &VcdRecorder::on_rx, this);
     avr_irq_unregister_notify(tx_irq_, &VcdRecorder::on_tx, this);
     for (IsrHook& h : isr_) avr_irq_unregister_notify(h.running, &VcdRecorder::on_isr, &h);
+    for (const PartTrace& t : part_outputs_) t.signal->remove_listener(t.listener);
 }
 
 void VcdRecorder::on_isr(avr_irq_t* /*irq*/, uint32_t value, void* param) {

@@ -21,6 +21,8 @@
 //                      coupling boundary at which the plant saw it; on any
 //                      other pin: the PORT bit at the cycle of the write
 //                      (simavr iomem notification)
+//   <part>.<PORT>      each output of each board part (parts:), e.g.
+//                      shield.Q2: its level from the cycle of each change
 //   isr.isr_<NAME>     one per vector the ELF has a handler for (INT0,
 //                      TIMER0_OVF, USART_UDRE, ...): 1 from the vector's entry
 //                      to the end of its RETI, as IsrMonitor times a duration
@@ -114,6 +116,12 @@ private:
     std::vector<PinTrace> encoder_;     ///< sized once: signals are declared through pointers into it
     std::vector<PinTrace> driver_pin_;  ///< likewise
     std::vector<avr_irq_t*> port_irqs_;
+    /// Each part output's signal and its listener (removed by the destructor).
+    struct PartTrace {
+        const LogicSignal* signal = nullptr;
+        LogicSignal::ListenerId listener = 0;
+    };
+    std::vector<PartTrace> part_outputs_;
     VcdWriter::SignalId loop_ = 0;
     uint32_t loop_count_ = 0;
     std::size_t profiled_seen_ = 0;

@@ -29,6 +29,16 @@ be computed (no compile command, the preprocessor fails) is checked by
 clang-tidy as usual and not cached. The output and exit status are
 clang-tidy's; a cache hit prints nothing and exits 0.
 `make lint LINT_CACHE=0` calls clang-tidy directly instead.
+
+    --source-root=DIR (first argument; not passed to clang-tidy)
+
+makes the key independent of where the checkout is: DIR (the project's root)
+is replaced by a placeholder in all of the above, so a fresh clone in another
+folder reuses the entries of the same sources checked elsewhere. clang-tidy's
+verdict does not depend on that folder, except through a HeaderFilterRegex
+that the folder's own path matches: the placeholder keeps whether DIR
+matches the project's filter (/plant/, /hil/ or /tools/ in it), so such a
+folder gets keys of its own.
 """
 import glob
 import hashlib
@@ -117,7 +127,15 @@ def tool_identity(clang_tidy):
     return [version, f"{real} {st.st_size} {st.st_mtime_ns}".encode(), "\n".join(toolchains).encode()]
 
 
-def cache_key(clang_tidy, args, source):
+def rooted(data, root):
+    """`data` (bytes) with the checkout's folder `root` replaced by a placeholder."""
+    if not root:
+        return data
+    marker = b"<root:" + (b"filtered" if re.search(r"/(plant|hil|tools)/", root + "/") else b"plain") + b">"
+    return data.replace(root.encode(), marker)
+
+
+def cache_key(clang_tidy, args, source, root=None):
     """The key, or None when it cannot be computed (then no caching)."""
     build = build_dir(args)
     if build is None:
@@ -128,14 +146,14 @@ def cache_key(clang_tidy, args, source):
         return None
     if not commands:
         return None
-    parts = [b"ddmr-hil cached_clang_tidy 1"]
+    parts = [b"ddmr-hil cached_clang_tidy 2"]
     for directory, argv in commands:
         done = subprocess.run(preprocess_argv(argv), cwd=directory, capture_output=True)
         if done.returncode != 0:
             return None
-        parts += [json.dumps([directory, argv]).encode(), done.stdout]
+        parts += [rooted(json.dumps([directory, argv]).encode(), root), rooted(done.stdout, root)]
     for path, contents in config_files(source):
-        parts += [path.encode(), contents]
+        parts += [rooted(path.encode(), root), contents]
     parts += tool_identity(clang_tidy)
     parts.append(json.dumps(args).encode())
     digest = hashlib.sha256()
@@ -170,12 +188,19 @@ def main(argv):
     if len(argv) < 1:
         print("usage: cached_clang_tidy.py CLANG_TIDY_ARGS... FILE", file=sys.stderr)
         return 2
+    root = None
+    if argv and argv[0].startswith("--source-root="):
+        root = os.path.realpath(argv[0].split("=", 1)[1])
+        argv = argv[1:]
+    if len(argv) < 1:
+        print("usage: cached_clang_tidy.py [--source-root=DIR] CLANG_TIDY_ARGS... FILE", file=sys.stderr)
+        return 2
     args, source = argv[:-1], argv[-1]
     clang_tidy = shutil.which("clang-tidy")
     if clang_tidy is None:
         print("cached_clang_tidy: clang-tidy not found on PATH", file=sys.stderr)
         return 127
-    key = cache_key(clang_tidy, args, source)
+    key = cache_key(clang_tidy, args, source, root)
     if key is not None and is_clean(key):
         return 0
     done = subprocess.run([clang_tidy, *args, source], capture_output=True)

@@ -116,7 +116,7 @@ PartSet::PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const Par
         const PartContext ctx(
             core_, entry, [this, &entry](const std::string& key) -> const LogicSignal& { return input_signal(entry, key); },
             pose);
-        parts_.emplace_back(entry.name, type->create(ctx));
+        parts_.push_back(Built{entry.name, type, type->create(ctx)});
     }
 }
 
@@ -138,8 +138,8 @@ const LogicSignal& PartSet::input_signal(const PartEntry& entry, const std::stri
 }
 
 const Part* PartSet::find(const std::string& name) const {
-    for (const auto& [n, part] : parts_) {
-        if (n == name) return part.get();
+    for (const Built& b : parts_) {
+        if (b.name == name) return b.part.get();
     }
     return nullptr;
 }
@@ -150,6 +150,14 @@ const LogicSignal& PartSet::output(const std::string& name, const std::string& p
     return part->output(port);
 }
 
+std::vector<PartSet::Output> PartSet::outputs() const {
+    std::vector<Output> out;
+    for (const Built& b : parts_) {
+        for (const PartPort& p : b.type->ports) out.push_back(Output{b.name, p.name, &b.part->output(p.name)});
+    }
+    return out;
+}
+
 const LogicSignal& PartSet::signal(const std::string& ref) const {
     const auto r = parse_part_output_ref(ref);
     if (!r) throw std::invalid_argument(fmt::format("'{}' is not a part output (NAME.PORT)", ref));
@@ -158,9 +166,9 @@ const LogicSignal& PartSet::signal(const std::string& ref) const {
 
 std::vector<std::string> PartSet::truth_columns() const {
     std::vector<std::string> out;
-    for (const auto& [name, part] : parts_) {
-        for (const std::string& c : part->truth_columns()) {
-            std::string column = name;
+    for (const Built& b : parts_) {
+        for (const std::string& c : b.part->truth_columns()) {
+            std::string column = b.name;
             column += '.';
             column += c;
             out.push_back(std::move(column));
@@ -170,7 +178,7 @@ std::vector<std::string> PartSet::truth_columns() const {
 }
 
 void PartSet::truth_values(std::vector<double>& out) const {
-    for (const auto& [name, part] : parts_) part->truth_values(out);
+    for (const Built& b : parts_) b.part->truth_values(out);
 }
 
 }  // namespace ddmr::hil

@@ -52,6 +52,12 @@ public:
     [[nodiscard]] const LogicSignal& signal(const std::string& ref) const;
     /// The part called `name`, or nullptr.
     [[nodiscard]] const Part* find(const std::string& name) const;
+    /// Every part's every output port, in build order: (part name, port, signal).
+    struct Output {
+        std::string part, port;
+        const LogicSignal* signal;
+    };
+    [[nodiscard]] std::vector<Output> outputs() const;
     /// truth.csv's part columns ("NAME.COLUMN") and their values now.
     [[nodiscard]] std::vector<std::string> truth_columns() const;
     void truth_values(std::vector<double>& out) const;
@@ -61,7 +67,12 @@ private:
 
     AvrCore& core_;
     std::vector<std::unique_ptr<LogicSignal>> signals_;  ///< pins and constants the parts read
-    std::vector<std::pair<std::string, std::unique_ptr<Part>>> parts_;  ///< in build order
+    struct Built {
+        std::string name;
+        const PartType* type;
+        std::unique_ptr<Part> part;
+    };
+    std::vector<Built> parts_;  ///< in build order
 };
 
 }  // namespace ddmr::hil

@@ -6,6 +6,7 @@
 #include "hil/vcd_recorder.hpp"
 
 #include <gtest/gtest.h>
+#include <sim_avr.h>
 
 #include <string>
 
@@ -58,6 +59,42 @@ TEST(VcdRecorder, AveragedModeStillDrawsThePhaseCorrectWaveform) {
     }
     EXPECT_GT(pulses, 200u);
     EXPECT_GT(test::edge_count(f.var("ddmr_hil.uno.D3_left_OUT")), 10u);  // the wheel turns
+}
+
+// A board part's outputs are signals: tests/firmware/shift_fixture.c latches
+// 0x06 into a 74HC595 called sr; Q1 and Q2 rise at the latch, Q0 stays low.
+TEST(VcdRecorder, DrawsEachPartOutputFromTheCycleItChanges) {
+    const auto elf = ElfImage::read(test::test_firmware_dir() / "shift_fixture.elf");
+    RigConfig config;
+    config.board.parts.push_back(PartEntry{"sr", "74hc595", 0,
+                                           {{"DS", {"8", 8, 0}}, {"SHCP", {"4", 4, 0}}, {"STCP", {"12", 12, 0}},
+                                            {"OE", {"7", 7, 0}}, {"MR", {"high", -1, 0}}}});
+    config.board.wheel[1].motor[DriverRole::dir].pin = 9;  // the default's D13 is free, D12 is the latch
+    config.board.wheel[0].motor[DriverRole::dir].pin = 13;
+    RobotRig rig(elf, config);
+    std::string text;
+    VcdConfig vcd_config;
+    vcd_config.clock_hz = rig.core().clock_hz();
+    VcdWriter writer([&text](std::string_view s) { text.append(s); }, vcd_config);
+    {
+        VcdRecorder recorder(rig, elf, writer);
+        rig.core().run_until(1000);  // past the start-up's .bss clearing
+        const auto at = [&](const char* name) { return static_cast<uint16_t>(elf.require(name).address); };
+        rig.core().raw()->data[at("data")] = 0x06;
+        rig.core().raw()->data[at("request")] = 1;
+        rig.core().run_until(30000);
+        ASSERT_EQ(rig.core().raw()->data[at("done")], 1);
+        recorder.finish();
+    }
+    const test::VcdFile f = test::parse_vcd(text);
+    ASSERT_TRUE(f.has("ddmr_hil.sr.Q1")) << text.substr(0, 2000);
+    EXPECT_EQ(test::edge_count(f.var("ddmr_hil.sr.Q0")), 0u);
+    EXPECT_EQ(test::edge_count(f.var("ddmr_hil.sr.Q1")), 1u);
+    EXPECT_EQ(test::edge_count(f.var("ddmr_hil.sr.Q2")), 1u);
+    EXPECT_EQ(f.var("ddmr_hil.sr.Q1").changes.back().value, 1u);
+    EXPECT_EQ(f.var("ddmr_hil.sr.Q1").changes.back().time, f.var("ddmr_hil.sr.Q2").changes.back().time);
+    // Destroyed, the recorder left no listener on the part: the rig runs on.
+    EXPECT_NO_THROW(rig.core().run_until(rig.core().cycle() + 1000));
 }
 
 }  // namespace

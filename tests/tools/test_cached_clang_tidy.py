@@ -116,3 +116,32 @@ def test_a_file_without_a_compile_command_is_checked_and_not_cached(project):
         lint(project, "other.cpp")  # clang-tidy's own verdict (it guesses the flags)
         assert runs(project) == attempt
     assert entries(project) == []
+
+
+def test_the_same_sources_in_another_folder_share_the_entry(tmp_path):
+    """--source-root: a fresh clone elsewhere reuses the entries of the same sources."""
+    cache = tmp_path / "cache"
+    env = dict(os.environ, XDG_CACHE_HOME=str(cache))
+    results = []
+    for copy in ("first", "second"):
+        root = tmp_path / copy
+        (root / "build").mkdir(parents=True)
+        (root / ".clang-tidy").write_text("Checks: '-*,bugprone-*'\n")
+        (root / "util.hpp").write_text("inline int twice(int n) { return 2 * n; }\n")
+        (root / "clean.cpp").write_text('#include "util.hpp"\nint four() { return twice(2); }\n')
+        (root / "build" / "compile_commands.json").write_text(json.dumps([
+            {"directory": str(root / "build"),
+             "command": f"/usr/bin/c++ -I{root} -std=c++17 -o clean.o -c {root / 'clean.cpp'}",
+             "file": str(root / "clean.cpp")}]))
+        done = subprocess.run([sys.executable, str(SCRIPT), f"--source-root={root}", *ARGS, "clean.cpp"], cwd=root,
+                              env=env, capture_output=True, text=True)
+        assert done.returncode == 0, done.stdout + done.stderr
+        results.append(sorted(p.name for p in (cache / "ddmr-hil" / "clang-tidy").iterdir()))
+    assert len(results[0]) == 1
+    assert results[1] == results[0]  # the second copy hit the first's entry
+    # Without --source-root the folder is part of the key.
+    root = tmp_path / "second"
+    done = subprocess.run([sys.executable, str(SCRIPT), *ARGS, "clean.cpp"], cwd=root, env=env,
+                          capture_output=True, text=True)
+    assert done.returncode == 0
+    assert len(list((cache / "ddmr-hil" / "clang-tidy").iterdir())) == 2
