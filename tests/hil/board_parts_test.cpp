@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "hil/board.hpp"
+#include "support/board_file.hpp"
 #include "support/temp_dir.hpp"
 
 namespace ddmr::test {
@@ -26,16 +27,7 @@ const std::string kWheels =
     "  right: {motor: {driver: l293d, EN: 11, IN1: shield.Q2, IN2: shield.Q3}, encoder: {type: single, OUT: A0}}\n"
     "  left:  {motor: {driver: l293d, EN: 3, IN1: shield.Q1, IN2: shield.Q4}, encoder: {type: single, OUT: A1}}\n";
 
-std::string load_error(const std::string& yaml) {
-    TempDir dir;
-    std::ofstream(dir / "b.yaml") << yaml;
-    try {
-        (void)hil::load_board_file(dir / "b.yaml");
-    } catch (const std::runtime_error& e) {
-        return e.what();
-    }
-    return "";
-}
+std::string load_error(const std::string& yaml) { return board_load_error(yaml); }
 
 TEST(BoardParts, TheShieldsPartsAndItsWheelsFedByThem) {
     TempDir dir;

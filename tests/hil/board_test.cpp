@@ -5,6 +5,7 @@
 
 #include <fstream>
 
+#include "support/board_file.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
 
@@ -13,16 +14,7 @@ namespace {
 
 using hil::DriverRole;
 
-std::string load_error(const std::string& yaml) {
-    TempDir dir;
-    std::ofstream(dir / "b.yaml") << yaml;
-    try {
-        (void)hil::load_board_file(dir / "b.yaml");
-    } catch (const std::runtime_error& e) {
-        return e.what();
-    }
-    return "";
-}
+std::string load_error(const std::string& yaml) { return board_load_error(yaml); }
 
 hil::BoardWiring load(const std::string& yaml) {
     TempDir dir;
