@@ -1,5 +1,7 @@
 #include "hil/plant_coupler.hpp"
 
+#include "hil/parts/part_set.hpp"
+
 #include <sim_avr.h>
 #include <sim_cycle_timers.h>
 
@@ -19,8 +21,13 @@ CouplerConfig resolved(const CouplerConfig& config, uint32_t clock_hz) {
 }
 
 PlantCoupler::PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader& reader,
-                           EncoderInjector& injector, const CouplerConfig& config)
-    : core_(core), robot_(robot), reader_(reader), injector_(injector), config_(resolved(config, core.clock_hz())) {
+                           EncoderInjector& injector, const CouplerConfig& config, PartSet* parts)
+    : core_(core),
+      robot_(robot),
+      reader_(reader),
+      injector_(injector),
+      config_(resolved(config, core.clock_hz())),
+      parts_(parts) {
     if (config_.step_cycles == 0) throw std::invalid_argument("coupling step must be >= 1 cycle");
     if (config_.truth_period_cycles == 0 || config_.truth_period_cycles % config_.step_cycles != 0) {
         throw std::invalid_argument("ground-truth period " + std::to_string(config_.truth_period_cycles) +
@@ -65,6 +72,7 @@ void PlantCoupler::step(Cycles boundary) {
     if (step_listener_) step_listener_(boundary, boundary + config_.step_cycles);
     advance(boundary, boundary + config_.step_cycles, input);
     ++steps_;
+    if (parts_ != nullptr) parts_->on_plant_step(boundary + config_.step_cycles);
     if (hook_) hook_(boundary);
 }
 

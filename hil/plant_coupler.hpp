@@ -31,6 +31,8 @@
 
 namespace ddmr::hil {
 
+class PartSet;
+
 struct CouplerConfig {
     /// Defaults in time, turned into cycles at the board's clock.
     static constexpr double kDefaultStepS = 62.5e-6;
@@ -65,9 +67,11 @@ TruthSample truth_sample_of(const plant::Robot& robot, Cycles cycle);
 class PlantCoupler {
 public:
     /// Validates `config` (throws std::invalid_argument naming the value) and
-    /// arms the step timer at the current cycle.
+    /// arms the step timer at the current cycle. `parts` (may be null): the
+    /// board's parts, told after each plant step (Part::on_plant_step, with
+    /// the cycle the plant's new state stands for: boundary + step).
     PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader& reader,
-                 EncoderInjector& injector, const CouplerConfig& config);
+                 EncoderInjector& injector, const CouplerConfig& config, PartSet* parts = nullptr);
     ~PlantCoupler();
     PlantCoupler(const PlantCoupler&) = delete;
     PlantCoupler& operator=(const PlantCoupler&) = delete;
@@ -106,6 +110,7 @@ private:
     MotorDriverReader& reader_;
     EncoderInjector& injector_;
     CouplerConfig config_;
+    PartSet* parts_ = nullptr;
     std::function<void(const TruthSample&)> sink_;
     std::function<void(Cycles)> hook_;
     std::function<void(Cycles, Cycles)> step_listener_;

@@ -50,7 +50,7 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       driver_(core_, config.board, &parts_),
       encoders_(core_, config.board),
       robot_(wired(config.plant, config.board)),
-      coupler_(core_, robot_, driver_, encoders_, config.coupler),
+      coupler_(core_, robot_, driver_, encoders_, config.coupler, &parts_),
       variables_(core_.elf(), core_),
       reset_monitor_(core_) {
     // The sensors drive their outputs from power-on: the pins start at the

@@ -13,7 +13,7 @@ libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
 libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libfmt-dev libssl-dev
 python3 python3-matplotlib python3-jsonschema python3-yaml python3-pytest
 gdb-avr libpugixml-dev patch
-valgrind ccache
+valgrind ccache lld
 libnlopt-cxx-dev libinih-dev
 cppcheck clang-tidy
 "

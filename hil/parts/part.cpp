@@ -40,6 +40,15 @@ const PartEntry::Value& value_of(const PartEntry& entry, const std::string& key)
 
 }  // namespace
 
+int PartContext::input_pin(const std::string& key) const {
+    const PartEntry::Value& v = value_of(entry_, key);
+    if (v.pin < 0) {
+        throw std::invalid_argument(fmt::format("part '{}' ({}): key '{}' must be wired to a board pin, not '{}'",
+                                                entry_.name, entry_.type, key, v.text));
+    }
+    return v.pin;
+}
+
 int PartContext::output_pin(const std::string& key) const { return value_of(entry_, key).pin; }
 
 const std::string& PartContext::text(const std::string& key) const { return value_of(entry_, key).text; }

@@ -90,6 +90,11 @@ public:
     [[nodiscard]] const std::string& name() const { return entry_.name; }
     /// The signal wired to input `key`.
     [[nodiscard]] const LogicSignal& input(const std::string& key) const { return signal_of_(key); }
+    /// The board pin input `key` is wired to, for a part that watches the
+    /// pin's mode (PinProbe) or drives it too (an RC sensor). Throws
+    /// std::invalid_argument naming the part and key when the board file
+    /// wired it to another part's output or to high/low.
+    [[nodiscard]] int input_pin(const std::string& key) const;
     /// The board pin of output `key`.
     [[nodiscard]] int output_pin(const std::string& key) const;
     /// An option's text, or a numeric option's value.
@@ -97,6 +102,9 @@ public:
     [[nodiscard]] double number(const std::string& key) const;
     /// The robot's pose now (for parts that see the world).
     [[nodiscard]] plant::Pose pose() const { return pose_(); }
+    /// The pose as a function a part keeps, to read at run time (the context
+    /// itself lives only while the factory runs).
+    [[nodiscard]] const std::function<plant::Pose()>& pose_source() const { return pose_; }
 
 private:
     AvrCore& core_;
@@ -113,6 +121,13 @@ public:
     /// truth.csv's columns of this part (without the "NAME." prefix) and their values now.
     [[nodiscard]] virtual std::vector<std::string> truth_columns() const { return {}; }
     virtual void truth_values(std::vector<double>& /*out*/) const {}
+    /// Called each time the plant has been stepped (every coupling step,
+    /// 62.5 us by default), inside the simulation: `pose_cycle` is the AVR
+    /// cycle the plant's state (PartContext::pose()) now stands for, one step
+    /// in the AVR's future (hil/plant_coupler.hpp). A part that sees the
+    /// world updates its outputs here (a PinDriver edge scheduled at
+    /// `pose_cycle` lands exactly when the pose is true). Must not throw.
+    virtual void on_plant_step(Cycles /*pose_cycle*/) {}
 };
 
 struct PartType {

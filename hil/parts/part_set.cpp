@@ -181,4 +181,8 @@ void PartSet::truth_values(std::vector<double>& out) const {
     for (const Built& b : parts_) b.part->truth_values(out);
 }
 
+void PartSet::on_plant_step(Cycles pose_cycle) {
+    for (Built& b : parts_) b.part->on_plant_step(pose_cycle);
+}
+
 }  // namespace ddmr::hil

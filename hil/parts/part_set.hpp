@@ -61,6 +61,9 @@ public:
     /// truth.csv's part columns ("NAME.COLUMN") and their values now.
     [[nodiscard]] std::vector<std::string> truth_columns() const;
     void truth_values(std::vector<double>& out) const;
+    /// Part::on_plant_step() of every part, in build order (PlantCoupler
+    /// calls it after each plant step).
+    void on_plant_step(Cycles pose_cycle);
 
 private:
     const LogicSignal& input_signal(const PartEntry& entry, const std::string& key);

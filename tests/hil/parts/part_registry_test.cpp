@@ -10,6 +10,7 @@
 #include "hil/board.hpp"
 #include "hil/parts/part_set.hpp"
 #include "support/fixture_core.hpp"
+#include "support/part_truth.hpp"
 #include "support/temp_dir.hpp"
 
 namespace ddmr::test {
@@ -53,17 +54,6 @@ void register_test_part() {
         return true;
     }();
     (void)done;
-}
-
-double truth_value(const hil::PartSet& parts, const std::string& column) {
-    std::vector<double> values;
-    parts.truth_values(values);
-    const auto columns = parts.truth_columns();
-    for (std::size_t i = 0; i < columns.size(); ++i) {
-        if (columns[i] == column) return values[i];
-    }
-    ADD_FAILURE() << "no truth column " << column;
-    return -1;
 }
 
 TEST(PartRegistry, APartTypeRegisteredFromOneFileIsWiredByABoardFile) {
