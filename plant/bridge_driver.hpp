@@ -90,6 +90,18 @@ constexpr BridgeParams default_bridge_params(DriverChip chip) {
     return {};
 }
 
+/// The plant file's section holding a chip's BridgeParams (params_yaml.hpp;
+/// the L298's is `driver`, from when it was the only chip).
+constexpr const char* params_section(DriverChip chip) {
+    switch (chip) {
+        case DriverChip::l298: return "driver";
+        case DriverChip::tb6612: return "tb6612";
+        case DriverChip::drv8833: return "drv8833";
+        case DriverChip::l293d: return "l293d";
+    }
+    return "driver";
+}
+
 /// What the plant needs of one bridge's inputs.
 struct BridgeInput {
     BridgeState state = BridgeState::coast;  ///< switched mode: what the bridge does now

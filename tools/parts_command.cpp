@@ -69,6 +69,7 @@ void append_type_text(std::string& t, const PartType& type) {
     }
     if (!type.ports.empty()) t += "      outputs (other parts read them as NAME.PORT):\n";
     for (const PartPort& p : type.ports) t += fmt::format("        {:<{}}  {}\n", p.name, name_w, p.description);
+    if (!type.plant_parameters.empty()) t += fmt::format("      plant parameters: {}\n", type.plant_parameters);
 }
 
 /// A table cell: '|' escaped, no line breaks.
@@ -102,6 +103,7 @@ std::string markdown_values(const PartKey& k) {
 
 void append_type_markdown(std::string& t, const PartType& type) {
     t += fmt::format("\n### `{}`: {}\n\nSource: {}.\n\n", type.type, cell(type.summary), cell(type.datasheet));
+    if (!type.plant_parameters.empty()) t += fmt::format("Plant parameters: {}.\n\n", type.plant_parameters);
     if (!type.keys.empty()) {
         t += "| key | kind | required / default | values | meaning |\n| --- | --- | --- | --- | --- |\n";
         for (const PartKey& k : type.keys) {

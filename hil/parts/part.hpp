@@ -136,6 +136,9 @@ struct PartType {
     std::string datasheet;  ///< the source of its behaviour
     std::vector<PartKey> keys;
     std::vector<PartPort> ports;
+    /// Where its physical parameters are set, one line ("the plant file's
+    /// `l293d:` section: ..."); empty: the board-file keys are all it has.
+    std::string plant_parameters;
     /// The factory; none for a wheel part (a motor driver or an encoder:
     /// read and driven by the rig, wheel_part_spec.hpp).
     std::function<std::unique_ptr<Part>(const PartContext&)> create;

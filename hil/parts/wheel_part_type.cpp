@@ -1,7 +1,11 @@
 #include "hil/parts/wheel_part_type.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <stdexcept>
+
+#include "plant/bridge_driver.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -39,6 +43,10 @@ PartType motor_driver_type(std::string word, std::string summary, std::string da
     t.keys.push_back(PartKey::choice("reversed", "true: the motor leads are swapped (the bridge's forward turns the "
                                                  "wheel backwards)",
                                      {"false", "true"}));
+    t.plant_parameters = fmt::format(
+        "the plant file's `{}:` section (drop_V, on_resistance_ohm, brake_resistance_ohm, flyback_diode_drop_V), "
+        "shared by both wheels' drivers of this chip",
+        plant::params_section(plant::chip_of(spec.type)));
     t.motor_driver = std::move(spec);
     return t;
 }
@@ -52,6 +60,9 @@ PartType encoder_type(std::string word, std::string summary, std::string datashe
     t.keys.push_back(wheel_key("encoder"));
     for (std::size_t i = 0; i < spec.signals.size(); ++i) t.keys.push_back(PartKey::output(spec.signals[i], descriptions.at(i)));
     t.keys.push_back(PartKey::choice("reversed", std::move(reversed_means), {"false", "true"}));
+    t.plant_parameters = "the plant file's `encoder1:` (right wheel) or `encoder2:` (left wheel) section: "
+                         "edges_per_motor_rev or edges_per_wheel_rev, initial_phase, jitter_stddev_s, "
+                         "missed_edge_probability, seed";
     t.encoder = std::move(spec);
     return t;
 }

@@ -129,6 +129,20 @@ TEST(RobotParams, EachMotorGetsItsChipsBridgeParameters) {
     EXPECT_EQ(bridge_params(p, 1).drop_V, 2.6);
 }
 
+TEST(RobotParams, EachChipsSectionNameIsTheSectionItsParametersAreReadFrom) {
+    // params_section() names, for `ddmr-hil parts`, the plant-file section
+    // whose fields are the chip's bridge_params().
+    RobotParams p = default_robot_params();
+    for (const DriverChip chip : {DriverChip::l298, DriverChip::tb6612, DriverChip::drv8833, DriverChip::l293d}) {
+        p.chip[0] = chip;
+        const void* read_from = nullptr;
+        for_each_section(p, [&](const char* name, auto& part, const auto& /*fields*/) {
+            if (std::string(name) == params_section(chip)) read_from = &part;
+        });
+        EXPECT_EQ(read_from, &bridge_params(p, 0)) << params_section(chip);
+    }
+}
+
 TEST(RobotParams, RobotConstructorValidates) {
     RobotParams p = default_robot_params();
     p.kinematics.half_axle_m = 0.0;

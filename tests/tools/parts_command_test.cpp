@@ -87,6 +87,17 @@ TEST(PartsCommand, ShowsOneType) {
     EXPECT_NE(md.out.find("| `Q7S` | serial out"), std::string::npos) << md.out;
 }
 
+TEST(PartsCommand, AWheelPartNamesThePlantSectionOfItsParameters) {
+    // The chip's section of the plant file (plant/params/default.yaml): the
+    // L293D has its own, the L298N module is the L298 (`driver:`).
+    EXPECT_NE(parts(" l293d").out.find("\n      plant parameters: the plant file's `l293d:` section (drop_V, "),
+              std::string::npos);
+    EXPECT_NE(parts(" l298n").out.find("plant parameters: the plant file's `driver:` section"), std::string::npos);
+    EXPECT_NE(parts(" quadrature --markdown").out.find("Plant parameters: the plant file's `encoder1:` (right wheel)"),
+              std::string::npos);
+    EXPECT_EQ(parts(" 74hc595").out.find("plant parameters"), std::string::npos);  // a logic chip has none
+}
+
 TEST(PartsCommand, AnUnknownTypeIsOneLineNamingTheKnownOnes) {
     const ProcessResult r = parts(" nosuch");
     EXPECT_EQ(r.exit_code, 2);
