@@ -46,13 +46,14 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       uart_(core_, host_usart(core_, config), config.uart_timing),
       eeprom_(core_),
       eeprom_timing_(core_, config.eeprom_timing),
-      parts_(core_, config.board.parts, PartRegistry::global(), [this] { return robot_.pose(); }),
+      parts_(core_, config.board.parts, PartRegistry::global(), [this] { return robot_.pose(); }, &config_.world),
       driver_(core_, config.board, &parts_),
       encoders_(core_, config.board),
       robot_(wired(config.plant, config.board)),
       coupler_(core_, robot_, driver_, encoders_, config.coupler, &parts_),
       variables_(core_.elf(), core_),
       reset_monitor_(core_) {
+    if (config_.world.start) robot_.reset(*config_.world.start);
     // The sensors drive their outputs from power-on: the pins start at the
     // encoders' levels, so the first edge is a change the firmware sees.
     for (unsigned m = 0; m < 2; ++m) {

@@ -10,7 +10,8 @@
 //   PlantCoupler      steps the plant in lockstep, one step ahead of the AVR
 //   EncoderInjector   plant edges => encoder pins at their exact cycles (levels from power-on)
 //   FirmwareVariables globals by ELF symbol
-//   PartSet           the board's `parts:` (a 74HC595, ...), built by type from the PartRegistry
+//   PartSet           the board's `parts:` (a 74HC595, ...), built by type from the PartRegistry;
+//                     they see the robot's pose and the world (RigConfig::world)
 //   ResetMonitor      restarts the firmware did not ask for (a call to 0): counted, a loop stops the run
 //
 // Construction validates the configuration (throws with the bad value).
@@ -32,12 +33,16 @@
 #include "hil/uart_link.hpp"
 #include "plant/robot.hpp"
 #include "plant/robot_params.hpp"
+#include "plant/world.hpp"
 
 namespace ddmr::hil {
 
 struct RigConfig {
     plant::RobotParams plant = plant::default_robot_params();
     BoardWiring board = default_board();
+    /// Around the robot (docs/world.md): lines, walls, the start pose. The
+    /// default is the plain floor, the robot at the origin heading +x.
+    plant::World world{};
     CouplerConfig coupler{};
     EepromTimingMode eeprom_timing = EepromTimingMode::kDatasheet;
     UartTiming uart_timing = UartTiming::kChip;

@@ -306,6 +306,7 @@ json summary_json(hil::Session& session, const RunPlan& plan, const FirmwareRunO
           {"mcu", core.mcu().name},
           {"clock_hz", core.clock_hz()},
           {"wiring_warnings", wiring_warnings}}},
+        {"world", options.world_file ? json(options.world_file->string()) : json(nullptr)},
         {"encoder", encoder_json(plan.config.board, result.encoder)},
         {"end_pose_truth", pose_json(result.end_pose_truth)},
         {"end_pose_firmware", result.end_pose_firmware ? pose_json(*result.end_pose_firmware) : json(nullptr)},

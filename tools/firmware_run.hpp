@@ -92,6 +92,7 @@ struct FirmwareRunOptions {
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
     std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML
     std::optional<std::filesystem::path> board_file;  ///< board YAML (overrides the plant file's)
+    std::optional<std::filesystem::path> world_file;  ///< world YAML (docs/world.md); none: the plain floor
     /// --board-name: the board (MCU, clock) of a run without a board file,
     /// wired as the thesis robot; with a board file, its `board:` must agree.
     std::optional<hil::BoardModel> board_name;

@@ -13,6 +13,7 @@
 #include "hil/avr_core.hpp"
 #include "hil/board.hpp"
 #include "hil/plant_coupler.hpp"
+#include "hil/world_file.hpp"
 #include "loop_mark.hpp"
 #include "plant/params_yaml.hpp"
 
@@ -39,6 +40,7 @@ hil::RigConfig rig_config(const FirmwareRunOptions& o) {
         c.board.source = fmt::format("built-in default board on the {}", hil::board_description(*o.board_name).key);
         hil::validate(c.board);
     }
+    if (o.world_file) c.world = hil::load_world_file(*o.world_file);
     c.coupler.mode = o.pwm;
     c.coupler.step_cycles = o.coupling_step_cycles;
     // PlantCoupler checks this too; here the message names the option and the board.

@@ -29,6 +29,7 @@ struct RunCli {
     std::string uart_timing = "chip";
     std::string plant_file;
     std::string board_file;
+    std::string world_file;
     std::string pwm = "switched";
     std::string eeprom_timing = "datasheet";
     std::string vcd;
@@ -251,6 +252,7 @@ FirmwareRunOptions run_options(const RunCli& cli, bool profile_always) {
     o.uart_timing = cli.uart_timing == "simavr" ? hil::UartTiming::kSimavr : hil::UartTiming::kChip;
     if (!cli.plant_file.empty()) o.plant_file = cli.plant_file;
     if (!cli.board_file.empty()) o.board_file = cli.board_file;
+    if (!cli.world_file.empty()) o.world_file = cli.world_file;
     if (!cli.board_name.empty()) o.board_name = hil::parse_board_key(cli.board_name);
     if (!cli.vcd.empty()) o.vcd = cli.vcd;
     o.pwm = cli.pwm == "averaged" ? plant::DriveMode::averaged : plant::DriveMode::switched;
@@ -331,6 +333,9 @@ void add_model_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
     sub->add_option("--board", cli->board_file,
                     "Board file: the board and the robot's wiring (drivers, encoders, pins; docs/boards.md); "
                     "default: the thesis robot on an Uno");
+    sub->add_option("--world", cli->world_file,
+                    "World file: the floor and its lines, the walls, the robot's start pose (docs/world.md); "
+                    "default: an empty floor, the robot at the origin heading +x");
     sub->add_option("--board-name", cli->board_name,
                     "Without --board: the board (its MCU and clock), wired as the thesis robot (right PWM 10 / "
                     "DIR 12 / encoder 2, left 11 / 13 / 3): " + hil::board_key_list() +

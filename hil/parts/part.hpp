@@ -25,6 +25,7 @@
 #include "hil/logic_signal.hpp"
 #include "hil/parts/wheel_part_spec.hpp"
 #include "plant/robot_params.hpp"
+#include "plant/world.hpp"
 
 namespace ddmr::hil {
 
@@ -83,8 +84,9 @@ class Part;
 class PartContext {
 public:
     using SignalOf = std::function<const LogicSignal&(const std::string& key)>;
-    PartContext(AvrCore& core, const PartEntry& entry, SignalOf signal_of, std::function<plant::Pose()> pose)
-        : core_(core), entry_(entry), signal_of_(std::move(signal_of)), pose_(std::move(pose)) {}
+    PartContext(AvrCore& core, const PartEntry& entry, SignalOf signal_of, std::function<plant::Pose()> pose,
+                const plant::World& world)
+        : core_(core), entry_(entry), signal_of_(std::move(signal_of)), pose_(std::move(pose)), world_(world) {}
 
     [[nodiscard]] AvrCore& core() const { return core_; }
     [[nodiscard]] const std::string& name() const { return entry_.name; }
@@ -105,12 +107,16 @@ public:
     /// The pose as a function a part keeps, to read at run time (the context
     /// itself lives only while the factory runs).
     [[nodiscard]] const std::function<plant::Pose()>& pose_source() const { return pose_; }
+    /// The world around the robot (docs/world.md; empty: the plain floor).
+    /// It outlives the part.
+    [[nodiscard]] const plant::World& world() const { return world_; }
 
 private:
     AvrCore& core_;
     const PartEntry& entry_;
     SignalOf signal_of_;
     std::function<plant::Pose()> pose_;
+    const plant::World& world_;
 };
 
 class Part {

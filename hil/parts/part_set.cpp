@@ -103,8 +103,9 @@ std::vector<std::size_t> part_order(const std::vector<PartEntry>& entries, const
 }
 
 PartSet::PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const PartRegistry& registry,
-                 const std::function<plant::Pose()>& pose)
+                 const std::function<plant::Pose()>& pose, const plant::World* world)
     : core_(core) {
+    static const plant::World kPlainFloor;
     for (const std::size_t i : part_order(entries, registry, "the board")) {
         const PartEntry& entry = entries[i];
         const PartType* type = registry.find(entry.type);
@@ -115,7 +116,7 @@ PartSet::PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const Par
         }
         const PartContext ctx(
             core_, entry, [this, &entry](const std::string& key) -> const LogicSignal& { return input_signal(entry, key); },
-            pose);
+            pose, world != nullptr ? *world : kPlainFloor);
         parts_.push_back(Built{entry.name, type, type->create(ctx)});
     }
 }

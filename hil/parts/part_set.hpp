@@ -39,8 +39,9 @@ std::vector<std::size_t> part_order(const std::vector<PartEntry>& entries, const
 
 class PartSet {
 public:
+    /// `world` (may be null: the plain floor) must outlive the set.
     PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const PartRegistry& registry,
-            const std::function<plant::Pose()>& pose);
+            const std::function<plant::Pose()>& pose, const plant::World* world = nullptr);
     ~PartSet();
     PartSet(const PartSet&) = delete;
     PartSet& operator=(const PartSet&) = delete;

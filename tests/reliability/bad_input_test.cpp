@@ -22,7 +22,7 @@ struct Case {
     std::string name;
     std::string file_name;  ///< written into the temp folder with `bytes`
     std::string bytes;
-    std::string option;     ///< "--firmware", "--plant" or "--board"
+    std::string option;     ///< "--firmware", "--plant", "--board" or "--world"
     std::string expected;   ///< fragment of the one-line error
 };
 
@@ -95,6 +95,23 @@ std::vector<Case> plant_cases() {
     };
 }
 
+/// World files (docs/world.md): a line with no width, a wall of zero length,
+/// a polygon of two corners, a typo in a key, malformed YAML, no file.
+std::vector<Case> world_cases() {
+    return {
+        {"LineWithoutWidth", "w.yaml", "lines:\n  - {points_m: [[0, 0], [1, 0]], width_m: 0}\n", "--world",
+         "w.yaml:2: key 'lines[0].width_m': a line needs a width above 0"},
+        {"WallOfZeroLength", "w.yaml", "walls:\n  - {from_m: [1, 1], to_m: [1, 1]}\n", "--world",
+         "w.yaml:2: key 'walls[0]': a wall of zero length"},
+        {"TwoCornerPolygon", "w.yaml", "walls:\n  - {polygon_m: [[0, 0], [1, 0]]}\n", "--world",
+         "key 'walls[0].polygon_m': expected a list of at least 3 points"},
+        {"UnknownWorldKey", "w.yaml", "lines:\n  - {points_m: [[0, 0], [1, 0]], widht_m: 0.02}\n", "--world",
+         "key 'lines[0].widht_m': unknown key"},
+        {"MalformedWorld", "w.yaml", "walls: [\n", "--world", "w.yaml:2: malformed YAML"},
+        {"MissingWorld", "", "", "--world", "missing.yaml: cannot read the world file"},
+    };
+}
+
 class BadInput : public ::testing::TestWithParam<Case> {};
 
 void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
@@ -118,6 +135,7 @@ std::string case_name(const ::testing::TestParamInfo<Case>& param_info) { return
 
 INSTANTIATE_TEST_SUITE_P(Firmware, BadInput, ::testing::ValuesIn(firmware_cases()), case_name);
 INSTANTIATE_TEST_SUITE_P(Plant, BadInput, ::testing::ValuesIn(plant_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(World, BadInput, ::testing::ValuesIn(world_cases()), case_name);
 
 TEST(BadOutput, AFileOrAnUnwritableParentIsRefused) {
     TempDir dir;

@@ -784,5 +784,21 @@ TEST(RunCommand, ABoardNameOrSerialPortThatDoesNotFitIsRefused) {
     for (const char* d : {"a", "b", "c", "d"}) EXPECT_FALSE(fs::exists(dir / d)) << d;
 }
 
+TEST(RunCommand, AWorldFilePutsTheRobotAtItsStart) {
+    TempDir dir;
+    std::ofstream(dir / "w.yaml") << "start: {x_m: 0.5, y_m: -0.25, heading_deg: 90}\n"
+                                     "walls:\n  - {from_m: [2, -1], to_m: [2, 1]}\n";
+    // 10 ms of a firmware that never drives the motors.
+    const auto r = run_command(cli() + " run -q --seconds 0.01 --firmware " +
+                               sh_quote((test_firmware_dir() / "echo_fixture.elf").string()) + " --world " +
+                               sh_quote((dir / "w.yaml").string()) + " --out " + sh_quote((dir / "out").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json s = json::parse(read_text(dir / "out" / "summary.json"));
+    EXPECT_EQ(s["world"], (dir / "w.yaml").string());
+    EXPECT_EQ(s["end_pose_truth"]["x_m"], 0.5);
+    EXPECT_EQ(s["end_pose_truth"]["y_m"], -0.25);
+    EXPECT_DOUBLE_EQ(s["end_pose_truth"]["theta_rad"].get<double>(), 3.14159265358979323846 / 2);
+}
+
 }  // namespace
 }  // namespace ddmr::test

@@ -326,6 +326,29 @@ TEST(ScenarioYaml, TheSerialPortIsOneOfTheBoardsUsarts) {
     }
 }
 
+TEST(ScenarioYaml, AWorldFileIsReadBesideTheScenarioAndItsMistakesNameIt) {
+    namespace fs = std::filesystem;
+    test::TempDir dir;
+    std::ofstream(dir / "w.yaml") << "start: {x_m: 0.2}\nlines:\n  - {points_m: [[0, 0], [1, 0]]}\n";
+    std::ofstream(dir / "s.yaml") << "world: w.yaml\ntimeout: 1s\nsteps:\n  - delay: 1ms\n";
+    const Scenario s = load_scenario(dir / "s.yaml", options());
+    ASSERT_TRUE(s.world_file);
+    EXPECT_EQ(*s.world_file, dir / "w.yaml");
+    ASSERT_TRUE(s.world.start);
+    EXPECT_EQ(s.world.start->x_m, 0.2);
+    EXPECT_EQ(s.world.lines.size(), 1U);
+    std::ofstream(dir / "w.yaml") << "walls:\n  - {from_m: [0, 0], to_m: [0, 0]}\n";
+    try {
+        load_scenario(dir / "s.yaml", options());
+        FAIL() << "a wall of zero length accepted";
+    } catch (const std::exception& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  (dir / "w.yaml").string() + ":2: key 'walls[0]': a wall of zero length (two corners at the same point)");
+    }
+    std::ofstream(dir / "s.yaml") << "world: nowhere.yaml\ntimeout: 1s\nsteps:\n  - delay: 1ms\n";
+    EXPECT_THROW(load_scenario(dir / "s.yaml", options()), std::exception);
+}
+
 TEST(ScenarioYaml, PinsVectorsAndPwmPinsAreTheMegas) {
     namespace fs = std::filesystem;
     test::TempDir dir;

@@ -21,6 +21,7 @@
 #include "hil/board.hpp"
 #include "plant/bridge_driver.hpp"
 #include "plant/robot_params.hpp"
+#include "plant/world.hpp"
 
 namespace ddmr::hil {
 struct TruthSample;
@@ -205,6 +206,8 @@ struct Scenario {
     std::optional<std::filesystem::path> plant_file;
     hil::BoardWiring board = hil::default_board();        ///< `board:` file, else the thesis robot
     std::optional<std::filesystem::path> board_file;
+    plant::World world{};                              ///< `world:` file, else the plain floor
+    std::optional<std::filesystem::path> world_file;
     plant::DriveMode pwm = plant::DriveMode::switched;
     hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
     uint64_t seed = 1;

@@ -38,6 +38,7 @@ json scenario_result_json(const Scenario& s, const ScenarioResult& r, const std:
         {"uart_bytes", r.uart_bytes},
         {"framing_errors", r.framing_errors},
         {"board", s.board_file ? json(s.board_file->string()) : json(nullptr)},
+        {"world", s.world_file ? json(s.world_file->string()) : json(nullptr)},
         {"wiring_warnings", wiring_warnings},
     };
 }

@@ -98,6 +98,7 @@ public:
         hil::RigConfig config;
         config.plant = s.plant;
         config.board = s.board;
+        config.world = s.world;
         config.coupler.mode = s.pwm;
         config.eeprom_timing = s.eeprom_timing;
         config.host_usart = s.serial_usart;

@@ -15,6 +15,7 @@
 #include "common/arduino_libraries.hpp"
 #include "common/platformio_project.hpp"
 #include "hil/board.hpp"
+#include "hil/world_file.hpp"
 #include "plant/params_yaml.hpp"
 #include "scenario/step_parsers.hpp"
 #include "scenario/yaml_ctx.hpp"
@@ -85,6 +86,17 @@ YAML::Node load_root(std::string_view yaml_text, const fs::path& file) {
     }
     if (!root.IsMap()) throw ScenarioError(fmt::format("{}:1: a scenario is a mapping with a 'steps' list", file.string()));
     return root;
+}
+
+/// world: a world file (docs/world.md).
+void read_world_file(const YAML::Node& root, const fs::path& file, Scenario& s) {
+    if (!root["world"]) return;
+    s.world_file = existing_file(Ctx(file, root["world"], "world", hil::board_description(s.board.model)));
+    try {
+        s.world = hil::load_world_file(*s.world_file);  // its messages name its file, line and key
+    } catch (const std::runtime_error& e) {
+        throw ScenarioError(e.what());
+    }
 }
 
 /// board: a board file. Read first: its clock and pins give meaning to the rest.
@@ -297,7 +309,8 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     const std::optional<PlatformioProject> pio = read_platformio(root, file, options, s);
     const hil::BoardDescription& board = hil::board_description(s.board.model);
     const Ctx top(file, root, "(top)", board, &s.board);
-    top.keys({"name", "description", "version", "author", "firmware", "libraries", "board", "plant", "pwm",
+    read_world_file(root, file, s);
+    top.keys({"name", "description", "version", "author", "firmware", "libraries", "board", "world", "plant", "pwm",
               "eeprom-timing", "seed", "timeout", "serial", "eeprom", "steps"},
              {"steps", "timeout"});
     s.name = root["name"] ? top.at(root["name"], "name").str() : file.stem().string();

@@ -134,6 +134,36 @@ private:
     hil::Cycles edge_cycle_ = 0;
 };
 
+/// OUT high while the floor under the robot's centre is darker than 0.5
+/// (a one-spot line sensor); counts the times it went onto a line.
+class FloorProbe final : public hil::Part {
+public:
+    explicit FloorProbe(const hil::PartContext& ctx)
+        : pose_(ctx.pose_source()), world_(ctx.world()), pin_(ctx.output_pin("OUT")), driver_(ctx.core()), none_(ctx.name()) {
+        driver_.drive_now(pin_, false);
+    }
+    const hil::LogicSignal& output(const std::string& /*port*/) const override { return none_; }
+    std::vector<std::string> truth_columns() const override { return {"lines_entered"}; }
+    void truth_values(std::vector<double>& out) const override { out.push_back(static_cast<double>(entered_)); }
+    void on_plant_step(hil::Cycles pose_cycle) override {
+        const plant::Pose p = pose_();
+        const bool dark = plant::reflectance_at(world_, {p.x_m, p.y_m}) < 0.5;
+        if (dark == on_) return;
+        on_ = dark;
+        if (dark) ++entered_;
+        driver_.schedule(pin_, pose_cycle, dark);
+    }
+
+private:
+    std::function<plant::Pose()> pose_;
+    const plant::World& world_;
+    int pin_;
+    hil::PinDriver driver_;
+    hil::DrivenSignal none_;
+    bool on_ = false;
+    uint64_t entered_ = 0;
+};
+
 template <typename P>
 hil::PartType test_type(std::string word, std::vector<hil::PartKey> keys) {
     hil::PartType t;
@@ -159,6 +189,7 @@ void register_test_parts() {
                                                   hil::PartKey::number("volts", "its voltage", 0, 0, 5)}));
         r.add(test_type<RegisterBank>("test-register-bank", {hil::PartKey::number("address", "7-bit", 0x68, 8, 0x77),
                                                              hil::PartKey::number("value", "registers", 0, 0, 255)}));
+        r.add(test_type<FloorProbe>("test-floor-probe", {hil::PartKey::output("OUT", "the pin driven")}));
         r.add(test_type<PoseGate>("test-pose-gate", {hil::PartKey::output("OUT", "the pin driven"),
                                                      hil::PartKey::number("x_m", "the x it waits for", 0.01, 0, 10)}));
         return true;
@@ -269,6 +300,34 @@ TEST(CapabilityParts, APartSeesThePoseAfterEachPlantStep) {
     EXPECT_EQ(truth_value(rig.parts(), "gate.steps"), static_cast<double>(rig.coupler().steps()));
     EXPECT_DOUBLE_EQ(truth_value(rig.parts(), "gate.x_m"), rig.robot().pose().x_m);
     EXPECT_GT(rig.robot().pose().x_m, 0.005);
+}
+
+TEST(CapabilityParts, APartSeesTheWorldUnderTheRobot) {
+    TempDir dir;
+    hil::RigConfig config;
+    config.board = board_with(dir, "  - {name: probe, type: test-floor-probe, OUT: 7}\n");
+    // A 19 mm tape across the path at x = 10 mm (dark from 0.5 to 19.5 mm),
+    // the robot starting 10 mm behind the origin.
+    config.world.lines.push_back(plant::FloorLine{{plant::LinePiece::segment({0.01, -1}, {0.01, 1})}});
+    config.world.start = plant::Pose{-0.01, 0.0, 0.0};
+    const hil::ElfImage elf = hil::ElfImage::read(test_firmware_dir() / "drive_fixture.elf");
+    hil::RobotRig rig(elf, config);
+    EXPECT_EQ(rig.robot().pose().x_m, -0.01);  // the world's start
+    const auto pind7 = [&rig] { return (rig.core().data(0x29) >> 7) & 1; };
+    const auto x_when = [&rig, &pind7](int level) {
+        for (int ms = 1; ms <= 2000; ++ms) {
+            rig.core().run_until(hil::ms_to_cycles(ms, rig.core().clock_hz()));
+            if (pind7() == level) return rig.robot().pose().x_m;
+        }
+        return -1.0;
+    };
+    const double on_at = x_when(1);
+    EXPECT_GT(on_at, 0.0005);
+    EXPECT_LT(on_at, 0.004);  // within a millisecond's travel of the tape's edge
+    const double off_at = x_when(0);
+    EXPECT_GT(off_at, 0.0195);
+    EXPECT_LT(off_at, 0.023);
+    EXPECT_EQ(truth_value(rig.parts(), "probe.lines_entered"), 1.0);
 }
 
 }  // namespace
