@@ -6,11 +6,20 @@
 #include <stdexcept>
 
 #include "plant/bridge_driver.hpp"
+#include "plant/hall_encoder.hpp"
 
 namespace ddmr::hil {
 namespace {
 
 bool has(const std::vector<DriverRole>& v, DriverRole r) { return std::find(v.begin(), v.end(), r) != v.end(); }
+
+/// A parameter table's keys, "a, b, c" (the plant file's names, from the table the file is read with).
+template <class Table>
+std::string key_list(const Table& fields) {
+    std::string out;
+    for (const auto& f : fields) out += (out.empty() ? "" : ", ") + std::string(f.key);
+    return out;
+}
 
 PartKey wheel_key(const char* what) {
     PartKey k = PartKey::choice("wheel", std::string("the wheel whose ") + what + " it is (wheels: names it instead)",
@@ -43,10 +52,8 @@ PartType motor_driver_type(std::string word, std::string summary, std::string da
     t.keys.push_back(PartKey::choice("reversed", "true: the motor leads are swapped (the bridge's forward turns the "
                                                  "wheel backwards)",
                                      {"false", "true"}));
-    t.plant_parameters = fmt::format(
-        "the plant file's `{}:` section (drop_V, on_resistance_ohm, brake_resistance_ohm, flyback_diode_drop_V), "
-        "shared by both wheels' drivers of this chip",
-        plant::params_section(plant::chip_of(spec.type)));
+    t.plant_parameters = fmt::format("the plant file's `{}:` section ({}), shared by both wheels' drivers of this chip",
+                                     plant::params_section(plant::chip_of(spec.type)), key_list(plant::bridge_fields()));
     t.motor_driver = std::move(spec);
     return t;
 }
@@ -60,9 +67,8 @@ PartType encoder_type(std::string word, std::string summary, std::string datashe
     t.keys.push_back(wheel_key("encoder"));
     for (std::size_t i = 0; i < spec.signals.size(); ++i) t.keys.push_back(PartKey::output(spec.signals[i], descriptions.at(i)));
     t.keys.push_back(PartKey::choice("reversed", std::move(reversed_means), {"false", "true"}));
-    t.plant_parameters = "the plant file's `encoder1:` (right wheel) or `encoder2:` (left wheel) section: "
-                         "edges_per_motor_rev or edges_per_wheel_rev, initial_phase, jitter_stddev_s, "
-                         "missed_edge_probability, seed";
+    t.plant_parameters = "the plant file's `encoder1:` (right wheel) or `encoder2:` (left wheel) section: " +
+                         key_list(plant::hall_encoder_fields());
     t.encoder = std::move(spec);
     return t;
 }
