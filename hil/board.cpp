@@ -385,7 +385,7 @@ struct WheelSources {
 void read_parts(const Reader& r, const YAML::Node& list, BoardWiring& b, WheelSources& from) {
     const PartRegistry& registry = PartRegistry::global();
     std::vector<PartEntry> entries = read_part_entries(
-        r, list, [&r](const YAML::Node& n, const std::string& key) { return r.pin(n, key); }, registry);
+        r, list, [&r](const YAML::Node& n, const std::string& key) { return r.pin(n, key); }, registry, *r.desc);
     for (std::size_t i = 0; i < entries.size(); ++i) {
         const PartType& type = *registry.find(entries[i].type);
         if (!type.on_wheel()) {

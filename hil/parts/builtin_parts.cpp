@@ -14,6 +14,9 @@ std::vector<PartType> builtin_part_types() {
         driver_l293d_type(),
         encoder_single_type(),
         encoder_quadrature_type(),
+        // Sensors (docs/world.md).
+        reflectance_type(),
+        ultrasonic_hcsr04_type(),
     };
 }
 

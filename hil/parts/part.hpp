@@ -136,6 +136,12 @@ public:
     virtual void on_plant_step(Cycles /*pose_cycle*/) {}
 };
 
+/// A board-file key of an entry its type cannot use on this board, and why.
+struct PartKeyProblem {
+    std::string key;
+    std::string message;  ///< "pin 7 of the Arduino Uno has no ADC input (...)"
+};
+
 struct PartType {
     std::string type;       ///< the board file's `type:` word
     std::string summary;    ///< one line
@@ -148,6 +154,10 @@ struct PartType {
     /// The factory; none for a wheel part (a motor driver or an encoder:
     /// read and driven by the rig, wheel_part_spec.hpp).
     std::function<std::unique_ptr<Part>(const PartContext&)> create;
+    /// Checks an entry against the board when the board file is read (an
+    /// analog output on a pin without an ADC input, an I2C device off the
+    /// TWI pins); none: every pin the keys accept will do.
+    std::function<std::optional<PartKeyProblem>(const PartEntry&, const BoardDescription&)> check;
     std::optional<MotorDriverSpec> motor_driver;  ///< set: a motor driver type
     std::optional<EncoderSpec> encoder;           ///< set: an encoder type
 

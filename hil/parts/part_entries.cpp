@@ -50,7 +50,7 @@ PartEntry::Value read_value(const YamlReader& r, const YAML::Node& v, const std:
 }
 
 PartEntry read_entry(const YamlReader& r, const YAML::Node& n, std::size_t index, const PinReader& pin,
-                     const PartRegistry& registry) {
+                     const PartRegistry& registry, const BoardDescription& board) {
     const std::string at = fmt::format("parts[{}]", index);
     r.mapping(n, at);
     if (!n["name"]) r.fail(n, at + ".name", "missing: each part needs a name (other parts and the wheels say NAME.PORT)");
@@ -80,18 +80,24 @@ PartEntry read_entry(const YamlReader& r, const YAML::Node& n, std::size_t index
         }
         e.values[k.name] = read_value(r, v, key + "." + k.name, k, pin);
     }
+    if (type->check) {
+        if (const std::optional<PartKeyProblem> p = type->check(e, board)) {
+            const YAML::Node at_key = n[p->key];
+            r.fail(at_key ? at_key : n, key + "." + p->key, p->message);
+        }
+    }
     return e;
 }
 
 }  // namespace
 
 std::vector<PartEntry> read_part_entries(const YamlReader& reader, const YAML::Node& list, const PinReader& pin,
-                                         const PartRegistry& registry) {
+                                         const PartRegistry& registry, const BoardDescription& board) {
     if (!list.IsSequence()) reader.fail(list, "parts", "expected a list of parts (- name: ..., type: ...)");
     std::vector<PartEntry> out;
     std::set<std::string> names;
     for (std::size_t i = 0; i < list.size(); ++i) {
-        PartEntry e = read_entry(reader, list[i], i, pin, registry);
+        PartEntry e = read_entry(reader, list[i], i, pin, registry, board);
         if (!names.insert(e.name).second) {
             reader.fail(list[i]["name"], "parts." + e.name + ".name", fmt::format("a second part called '{}'", e.name));
         }

@@ -22,8 +22,9 @@ using PinReader = std::function<int(const YAML::Node&, const std::string&)>;
 /// Reads `list` (a sequence). Refuses an entry that is not a mapping, a
 /// missing or repeated name, an unknown type (naming the known ones), an
 /// unknown or missing key, an input that is not a pin, NAME.PORT, high or
-/// low, an output that is not a pin, an option out of its range or choices.
+/// low, an output that is not a pin, an option out of its range or choices,
+/// and an entry its type's check() refuses on `board`.
 std::vector<PartEntry> read_part_entries(const YamlReader& reader, const YAML::Node& list, const PinReader& pin,
-                                         const PartRegistry& registry);
+                                         const PartRegistry& registry, const BoardDescription& board);
 
 }  // namespace ddmr::hil

@@ -1,0 +1,39 @@
+#include "plant/reflectance_sensor.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "plant/units.hpp"
+
+namespace ddmr::plant {
+
+double spot_reflectance(const World& world, const Eigen::Vector2d& p, double spot_diameter_m) {
+    if (spot_diameter_m <= 0.0) return reflectance_at(world, p);
+    const double r = spot_diameter_m / 2.0;
+    double sum = reflectance_at(world, p);
+    for (int k = 0; k < 4; ++k) {  // half the radius, every 90 degrees
+        const double a = k * kPi / 2.0;
+        sum += reflectance_at(world, p + 0.5 * r * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+    for (int k = 0; k < 8; ++k) {  // the rim, every 45 degrees
+        const double a = k * kPi / 4.0;
+        sum += reflectance_at(world, p + r * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+    return sum / 13.0;
+}
+
+double analog_output_v(const AnalogReflectanceParams& p, double reflectance) {
+    const double slope = (p.black_v - p.white_v) / (kBlackTapeReflectance - kWhiteReflectance);
+    const double v = p.white_v + slope * (reflectance - kWhiteReflectance);
+    return std::clamp(v, 0.0, p.supply_v);
+}
+
+double rc_decay_s(const RcReflectanceParams& p, double reflectance) {
+    // 1/t = g0 + g1 r through (white, 1/white_decay) and (black, 1/black_decay).
+    const double g1 = (1.0 / p.white_decay_s - 1.0 / p.black_decay_s) / (kWhiteReflectance - kBlackTapeReflectance);
+    const double g0 = 1.0 / p.black_decay_s - g1 * kBlackTapeReflectance;
+    return 1.0 / (g0 + g1 * std::max(reflectance, kBlackTapeReflectance));
+}
+
+}  // namespace ddmr::plant
