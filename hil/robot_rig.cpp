@@ -17,6 +17,13 @@ plant::RobotParams wired(plant::RobotParams p, const BoardWiring& board) {
     return p;
 }
 
+/// The robot at the world's start pose (none: the origin, heading +x).
+plant::Robot at_start(const plant::RobotParams& params, const plant::World& world) {
+    plant::Robot robot(params);
+    if (world.start) robot.reset(*world.start);
+    return robot;
+}
+
 /// The USART the host's adapter is on: config.host_usart, else the board's console.
 const UsartDesc& host_usart(const AvrCore& core, const RigConfig& config) {
     const BoardDescription& board = core.board();
@@ -46,14 +53,14 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       uart_(core_, host_usart(core_, config), config.uart_timing),
       eeprom_(core_),
       eeprom_timing_(core_, config.eeprom_timing),
+      robot_(at_start(wired(config.plant, config.board), config.world)),
       parts_(core_, config.board.parts, PartRegistry::global(), [this] { return robot_.pose(); }, &config_.world),
+      world_truth_(config_.world, [this] { return robot_.pose(); }),
       driver_(core_, config.board, &parts_),
       encoders_(core_, config.board),
-      robot_(wired(config.plant, config.board)),
       coupler_(core_, robot_, driver_, encoders_, config.coupler, &parts_),
       variables_(core_.elf(), core_),
       reset_monitor_(core_) {
-    if (config_.world.start) robot_.reset(*config_.world.start);
     // The sensors drive their outputs from power-on: the pins start at the
     // encoders' levels, so the first edge is a change the firmware sees.
     for (unsigned m = 0; m < 2; ++m) {
@@ -61,6 +68,17 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
             encoders_.drive_now(m, s, robot_.encoder_level(m, s));
         }
     }
+}
+
+std::vector<std::string> RobotRig::extra_truth_columns() const {
+    std::vector<std::string> columns = world_truth_.columns();
+    for (std::string& c : parts_.truth_columns()) columns.push_back(std::move(c));
+    return columns;
+}
+
+void RobotRig::extra_truth_values(std::vector<double>& out) const {
+    world_truth_.values(out);
+    parts_.truth_values(out);
 }
 
 }  // namespace ddmr::hil

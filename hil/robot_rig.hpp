@@ -29,6 +29,7 @@
 #include "hil/motor_driver_reader.hpp"
 #include "hil/plant_coupler.hpp"
 #include "hil/parts/part_set.hpp"
+#include "hil/world_truth.hpp"
 #include "hil/reset_monitor.hpp"
 #include "hil/uart_link.hpp"
 #include "plant/robot.hpp"
@@ -67,6 +68,10 @@ public:
     MotorDriverReader& driver() { return driver_; }
     /// The board's `parts:` (hil/parts/part_set.hpp).
     const PartSet& parts() const { return parts_; }
+    /// truth.csv's columns after the plant's: the world's (world_truth.hpp),
+    /// then the parts' ("NAME.COLUMN"), and their values now.
+    std::vector<std::string> extra_truth_columns() const;
+    void extra_truth_values(std::vector<double>& out) const;
     EncoderInjector& encoders() { return encoders_; }
     plant::Robot& robot() { return robot_; }
     PlantCoupler& coupler() { return coupler_; }
@@ -81,10 +86,11 @@ private:
     UartLink uart_;
     EepromPort eeprom_;
     EepromWriteTiming eeprom_timing_;
-    PartSet parts_;  ///< before the driver, which reads their outputs
+    plant::Robot robot_;  ///< at the world's start before the parts, which read its pose when built
+    PartSet parts_;       ///< before the driver, which reads their outputs
+    WorldTruth world_truth_;
     MotorDriverReader driver_;
     EncoderInjector encoders_;
-    plant::Robot robot_;
     PlantCoupler coupler_;
     FirmwareVariables variables_;
     ResetMonitor reset_monitor_;

@@ -436,7 +436,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     }
 
     // --- Streamed outputs (atomic: renamed into place at the end). ---
-    TruthOutput truth(options.out_dir / "truth.csv", session.rig().parts());
+    TruthOutput truth(options.out_dir / "truth.csv", session.rig());
     // uart.txt grows as the firmware writes, so no copy of it is held in memory.
     AtomicFileWriter uart_txt(options.out_dir / "uart.txt");
     std::optional<LoopTraceOutput> loop_trace;

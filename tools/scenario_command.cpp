@@ -24,6 +24,7 @@
 #include "scenario/step_catalog.hpp"
 #include "common/spawn.hpp"
 #include "exit_codes.hpp"
+#include "scenario/scenario_signals.hpp"
 #include "hil/avr_core.hpp"
 #include "hil/elf_image.hpp"
 #include "scenario/scenario_runner.hpp"
@@ -78,6 +79,7 @@ sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
         if (!cli.worker) std::fprintf(stderr, "%s\n", describe_libraries(*s.sketch_build).c_str());
     }
     sc::check_firmware_names(s);
+    sc::check_signal_names(s);
     return s;
 }
 

@@ -24,23 +24,27 @@ namespace ddmr::tools {
 
 using hil::Cycles;
 
-/// truth.csv: the plant's ground truth, streamed; then one column per part's
-/// truth value ("shield.Q": the 74HC595's output byte), when the board has parts.
+/// truth.csv: the plant's ground truth, streamed; then the world's columns
+/// (line_offset_m, wall_distance_m) and one column per part's truth value
+/// ("shield.Q": the 74HC595's output byte), when there are any
+/// (RobotRig::extra_truth_columns).
 class TruthOutput final : public hil::SessionObserver {
 public:
-    TruthOutput(const std::filesystem::path& file, const hil::PartSet& parts) : csv_(file), parts_(parts) {
+    TruthOutput(const std::filesystem::path& file, const hil::RobotRig& rig) : csv_(file), rig_(rig) {
         std::string header = truth_csv_header(/*with_drive=*/true);
         header.pop_back();  // its newline
-        for (const std::string& c : parts_.truth_columns()) header += "," + c;
+        const std::vector<std::string> extra = rig_.extra_truth_columns();
+        for (const std::string& c : extra) header += "," + c;
+        extra_ = !extra.empty();
         csv_.write(header + "\n");
     }
     void on_truth(const hil::TruthSample& s) override {
         row_.clear();
         append_truth_row(row_, s, /*with_drive=*/true);
-        if (!parts_.empty()) {
+        if (extra_) {
             row_.pop_back();
             values_.clear();
-            parts_.truth_values(values_);
+            rig_.extra_truth_values(values_);
             for (const double v : values_) row_ += fmt::format(",{}", v);
             row_ += '\n';
         }
@@ -50,7 +54,8 @@ public:
 
 private:
     AtomicFileWriter csv_;
-    const hil::PartSet& parts_;
+    const hil::RobotRig& rig_;
+    bool extra_ = false;
     std::string row_;
     std::vector<double> values_;
 };

@@ -16,6 +16,7 @@ std::vector<PartType> builtin_part_types() {
         encoder_quadrature_type(),
         // Sensors (docs/world.md).
         reflectance_type(),
+        marker_type(),
         ultrasonic_hcsr04_type(),
     };
 }

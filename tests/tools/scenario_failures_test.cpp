@@ -82,7 +82,14 @@ struct FailingCase {
         board = "board.yaml";
         return with_file("board.yaml", std::move(yaml));
     }
+    /// The scenario's `world:`: a file beside it, named after the scenario
+    /// (the cases of one run share their folder).
+    FailingCase& in_world(std::string yaml) {
+        world = name + "_world.yaml";
+        return with_file(world, std::move(yaml));
+    }
     std::string board;  ///< the scenario's board file, or the thesis robot
+    std::string world;  ///< the scenario's world file, or none
 };
 
 /// The check `steps.back()` (of `kind`) fails with `message`.
@@ -121,6 +128,7 @@ std::string scenario_yaml(const FailingCase& c, bool control) {
         if (!control || i != c.under_test) y += "  - " + c.steps[i] + "\n";
     }
     if (!c.board.empty()) y += "board: " + c.board + "\n";  // after the steps: their lines stay
+    if (!c.world.empty()) y += "world: " + c.world + "\n";
     return y;
 }
 
@@ -178,6 +186,15 @@ void expect_each_fails(const std::vector<FailingCase>& cases) {
     EXPECT_EQ(r.exit_code, any_error ? 3 : 1) << r.out << r.err;
     for (const FailingCase& c : cases) expect_case_failed(c, dir / "out");
 }
+
+/// A world of one tape along the x axis, through the robot's start.
+const std::string kTapeAlongX = "lines:\n  - {points_m: [[-1, 0], [3, 0]]}\n";
+/// The thesis robot's wiring (drive_fixture's pins), for `parts:` after it.
+const std::string kThesisBoardWith =
+    "board: uno\n"
+    "wheels:\n"
+    "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
+    "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n";
 
 // --- serial and pins ---------------------------------------------------------
 std::vector<FailingCase> serial_and_pin_cases() {
@@ -340,6 +357,29 @@ std::vector<FailingCase> plant_cases() {
                 "expect-pose: {x_m: 0, y_m: 0, tol_m: 0.1, theta_rad: 0, tol_rad: 0.5}"},
                R"(expected the truth pose within 0\.1 m of \(0\.0000, 0\.0000\), theta 0\.0000 \+- 0\.5; )"
                R"(got \(0\.0000, 0\.0500\) theta 1\.0000 rad, 0\.0500 m away)"),
+        // echo_fixture leaves the robot standing. A tape along the x axis under
+        // it: the offset from the wheel axle's middle is 0 until the push
+        // moves the robot 5 cm to the left (-0.05). Over both halves the mean is -0.025; restarted after
+        // the push, -0.05.
+        action("measure", 3, "measure_restarts", kEcho,
+               {"measure: {signal: line_offset_m}", "delay: 100ms", "push: {dy_m: 0.05}", "measure: {signal: line_offset_m}",
+                "delay: 100ms", "expect-stats: {signal: line_offset_m, mean: [-0.03, 0.03]}"},
+               R"(expected the mean in \[-0\.03, 0\.03\]; line_offset_m over \d+ samples: rms [\d.e-]+, mean )"
+               R"((-0\.0\d+), min .*)")
+            .measuring(-0.05, -0.05)
+            .in_world(kTapeAlongX),
+        // 200 truth samples (one a millisecond) of an offset of -0.02 m.
+        check("expect-stats", "expect_stats_rms", kEcho,
+              {"measure: {signal: line_offset_m}", "delay: 200ms", "expect-stats: {signal: line_offset_m, rms_max: 0.001}"},
+              R"(expected rms <= 0\.001; line_offset_m over \d+ samples: rms (0\.0\d+), mean .*)")
+            .measuring(0.02, 0.02)
+            .in_world(kTapeAlongX + "start: {x_m: 0, y_m: 0.02, heading_deg: 0}\n"),
+        // A marker 50 mm ahead of the axle, over a tape 20 mm to the right.
+        check("expect", "expect_part_column", kEcho, {"delay: 10ms", "expect: {signal: nose.line_offset_m, op: \">\", value: 0}"},
+              R"(expected nose\.line_offset_m > 0, got (-0\.0\d+))")
+            .measuring(-0.02, -0.02)
+            .in_world(kTapeAlongX + "start: {x_m: 0, y_m: 0.02, heading_deg: 0}\n")
+            .on_board(kThesisBoardWith + "parts:\n  - {name: nose, type: marker, x_mm: 50}\n"),
         // A reset clears DDRB and PORTB: D12 is an input again, read low.
         action("reset", 1, "reset_clears_the_pins", kDrive, {"delay: 1ms", "reset", "expect-pin: {pin: 12, value: 1}"},
                R"(expected pin 12 = 1, got 0)"),
@@ -397,6 +437,29 @@ TEST(ScenarioStepFailures, SerialAndPinSteps) { expect_each_fails(serial_and_pin
 TEST(ScenarioStepFailures, FirmwareAndRobotChecks) { expect_each_fails(firmware_check_cases()); }
 TEST(ScenarioStepFailures, PlantSignalsAndFaults) { expect_each_fails(plant_cases()); }
 TEST(ScenarioStepFailures, CompareTolerances) { expect_each_fails(compare_cases()); }
+
+// A part's column its type does not have, and a world signal without a
+// world, are refused before the run (exit 2), naming the line.
+TEST(ScenarioSignals, AColumnTheRobotLacksIsRefusedBeforeTheRun) {
+    TempDir dir;
+    fs::copy_file(test_firmware_dir() / kDrive, dir / kDrive);
+    write_text(dir, "board.yaml", kThesisBoardWith + "parts:\n  - {name: nose, type: marker, x_mm: 50}\n");
+    write_text(dir, "s.yaml", "firmware: " + kDrive + "\nboard: board.yaml\ntimeout: 1s\nsteps:\n"
+                              "  - delay: 1ms\n  - expect: {signal: nose.volts, op: \">\", value: 0}\n");
+    ProcessResult r = scenario(sh_quote((dir / "s.yaml").string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("s.yaml:6: key 'expect.signal': this robot has no signal 'nose.volts' (its world and parts "
+                         "give: nose.line_offset_m, nose.reflectance)"),
+              std::string::npos)
+        << r.err;
+    write_text(dir, "w.yaml", "firmware: " + kDrive + "\ntimeout: 1s\nsteps:\n  - measure: {signal: wall_distance_m}\n");
+    r = scenario(sh_quote((dir / "w.yaml").string()) + " --out " + sh_quote((dir / "out2").string()));
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("w.yaml:4: key 'measure.signal': this robot has no signal 'wall_distance_m' (its world and "
+                         "parts give: none)"),
+              std::string::npos)
+        << r.err;
+}
 
 }  // namespace
 }  // namespace ddmr::test

@@ -219,7 +219,7 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
         {"timeout: 1s\nfirmware: { hex: a.hex }\nsteps:\n  - delay: 1ms\n", "key 'firmware.hex': unknown key"},
         // wait-until and expect on plant signals
         {"timeout: 1s\nsteps:\n  - delay: 1ms\n  - wait-until: { signal: x, op: \">\", value: 1 }\n",
-         "case.yaml:4: key 'wait-until.signal': 'x' is not a plant signal (one of x_m, "},
+         "case.yaml:4: key 'wait-until.signal': 'x' is not a signal (one of x_m, "},
         {"timeout: 1s\nsteps:\n  - wait-until: { signal: t_s, value: 1 }\n", "key 'wait-until.signal': 't_s'"},
         {"timeout: 1s\nsteps:\n  - wait-until: { op: \">\", value: 1 }\n",
          "case.yaml:3: key 'wait-until': missing required key 'signal'"},
@@ -234,7 +234,7 @@ TEST(ScenarioYaml, RefusesWithFileLineAndKey) {
         {"timeout: 1s\nsteps:\n  - wait-until: { signal: x_m, value: .nan }\n", "key 'wait-until.value'"},
         {"timeout: 1s\nsteps:\n  - wait-until: x_m\n", "key 'wait-until': expected a mapping of keys"},
         {"timeout: 1s\nsteps:\n  - expect: { signal: left.speed, value: 1 }\n",
-         "case.yaml:3: key 'expect.signal': 'left.speed' is not a plant signal"},
+         "case.yaml:3: key 'expect.signal': 'left.speed' is not a signal (one of"},
         {"timeout: 1s\nsteps:\n  - expect: { value: 1 }\n", "case.yaml:3: key 'expect': missing required key 'signal'"},
         {"timeout: 1s\nsteps:\n  - expect: { signal: x_m, op: \"<\" }\n",
          "case.yaml:3: key 'expect': missing required key 'value' (or give between: [min, max])"},

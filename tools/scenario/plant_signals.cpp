@@ -69,6 +69,11 @@ const std::vector<std::string>& plant_signal_names() {
     return names;
 }
 
+const std::vector<std::string>& world_signal_names() {
+    static const std::vector<std::string> names{"line_offset_m", "wall_distance_m"};
+    return names;
+}
+
 bool is_plant_signal(std::string_view name) { return find_signal(name) != nullptr; }
 
 double plant_signal(const hil::TruthSample& t, std::string_view name) {

@@ -133,6 +133,8 @@ bool is_plant_signal(std::string_view name);
 /// The signal's value in `t` (as truth.csv writes it; dir as 1/0). Throws
 /// std::invalid_argument for an unknown name.
 double plant_signal(const hil::TruthSample& t, std::string_view name);
+/// The world's signals (hil/world_truth.hpp): line_offset_m, wall_distance_m.
+const std::vector<std::string>& world_signal_names();
 
 struct WaitUntil {  ///< `wait-until: {signal: x_m, op: ">=", value: 0.1, timeout: 7s}`
     std::string signal;
@@ -145,6 +147,20 @@ struct ExpectSignal {  ///< `expect: {signal, op, value}` or `expect: {signal, b
     CompareOp op = CompareOp::kEq;
     double value = 0.0;
     Range between;  ///< set: a <= signal <= b (instead of op and value)
+};
+/// `measure: {signal: line_offset_m}`: from now on, each truth sample (1 ms)
+/// of the signal goes into its statistics, for expect-stats.
+struct Measure {
+    std::string signal;
+};
+/// `expect-stats: {signal, rms_max, abs_max, mean, min_samples}`: the
+/// statistics of the signal's samples since its measure step.
+struct ExpectStats {
+    std::string signal;
+    std::optional<double> rms_max;  ///< sqrt(mean of squares) at most this
+    std::optional<double> abs_max;  ///< every |sample| at most this
+    Range mean;                     ///< the mean within [min, max]
+    uint64_t min_samples = 1;       ///< at least this many samples
 };
 struct ExpectEncoders {  ///< `expect-encoders: {max_lost: 0}`: edges lost at the pins
     uint64_t max_lost = 0;
@@ -178,7 +194,7 @@ struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
 
 using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
                                 ExpectPart, ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
-                                ExpectIsr, ExpectNoTornReads, ExpectEncoders, WaitUntil, ExpectSignal, InjectDrop,
+                                ExpectIsr, ExpectNoTornReads, ExpectEncoders, WaitUntil, ExpectSignal, Measure, ExpectStats, InjectDrop,
                                 Stall, Battery, Slip, Push, Reset>;
 
 struct Step {

@@ -17,6 +17,7 @@
 #include "common/atomic_file.hpp"
 #include "common/csv_table.hpp"
 #include "common/truth_csv.hpp"
+#include "scenario/scenario_signals.hpp"
 #include "comparison.hpp"
 #include "exit_codes.hpp"
 #include "hil/atmega328p.hpp"
@@ -95,13 +96,7 @@ public:
           elf_(hil::ElfImage::read(s.firmware)) {
         const hil::BoardDescription& board = hil::board_description(s.board.model);
         elf_.require_mcu(*board.mcu, board.key);
-        hil::RigConfig config;
-        config.plant = s.plant;
-        config.board = s.board;
-        config.world = s.world;
-        config.coupler.mode = s.pwm;
-        config.eeprom_timing = s.eeprom_timing;
-        config.host_usart = s.serial_usart;
+        const hil::RigConfig config = rig_config_of(s);
         hil::SessionOptions options;
         options.adapter_baud = s.baud;
         if (s.eeprom_preload) options.eeprom_preload = hil::EepromPort::load_image(*s.eeprom_preload, *board.mcu);
@@ -109,6 +104,7 @@ public:
         session_ = std::make_unique<hil::Session>(elf_, config, std::move(options));
         session_->set_failure_wording(hil::FailureWording::kInStep);  // the step's failure line gives the time
         rig_ = &session_->rig();
+        signals_.emplace(*rig_);
         if (s.needs_loop_profile()) {
             const auto mark = elf_.require("delay");
             profiler_.emplace(rig_->core(), mark);
@@ -133,7 +129,7 @@ public:
         const auto wall0 = std::chrono::steady_clock::now();
         prepare_output_dir(out_dir_);
         uart_txt_.emplace(out_dir_ / "uart.txt");
-        truth_.emplace(out_dir_ / "truth.csv", rig_->parts());
+        truth_.emplace(out_dir_ / "truth.csv", *rig_);
         session_->attach(*truth_);
         for (const Step& step : s_.steps) {
             StepOutcome o{step.line, step.kind, step.text, false, 0, {}};
@@ -199,6 +195,7 @@ private:
             session_->interrupt();
         }
     }
+    void on_truth(const hil::TruthSample& t) override { signals_->on_truth(t); }
     void on_boundary(Cycles c) override {
         vcd_->on_boundary(c);
         if (!unsent_.empty() && receiver_enabled()) {
@@ -447,10 +444,13 @@ private:
         if (lost > e.max_lost) throw StepFailed{Verdict::kFail, fmt::format("expected at most {} lost encoder edges, {} were lost", e.max_lost, lost)};
         return fmt::format("{} edges lost", lost);
     }
-    /// A plant signal now, as truth.csv would write it.
-    double signal_now(const std::string& name) {
-        return plant_signal(hil::truth_sample_of(rig_->robot(), core().cycle()), name);
+    /// A signal now, as truth.csv would write it.
+    double signal_now(const std::string& name) { return signals_->now(name); }
+    std::string run_step(const Measure& m) {
+        signals_->measure(m.signal);
+        return {};
     }
+    std::string run_step(const ExpectStats& e) { return signals_->expect_stats(e); }
     std::string run_step(const WaitUntil& w) {
         const Cycles start = core().cycle();
         const auto met = [&] { return holds(signal_now(w.signal), w.op, w.value); };
@@ -551,6 +551,7 @@ private:
     std::optional<hil::VcdWriter> vcd_writer_;
     std::optional<hil::VcdRecorder> vcd_;
     std::optional<TruthOutput> truth_;
+    std::optional<RigSignals> signals_;
     bool armed_ = false;
     TextWindow text_{kSerialWindowBytes};  ///< the received text's end (uart.txt has it all)
     TextWindow line_{kSerialWindowBytes};  ///< the line being received, without \r

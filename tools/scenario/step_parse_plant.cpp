@@ -45,19 +45,28 @@ std::optional<StepAction> parse_plant_step(const std::string& kind, const Ctx& c
         if (c.has("timeout")) w.timeout = c.child("timeout").duration();
         return w;
     }
+    if (kind == "measure") {
+        c.keys({"signal"}, {"signal"});
+        return Measure{plant_signal_name(c.child("signal"))};
+    }
+    if (kind == "expect-stats") {
+        c.keys({"signal", "rms_max", "abs_max", "mean", "min_samples"}, {"signal"});
+        ExpectStats e;
+        e.signal = plant_signal_name(c.child("signal"));
+        if (c.has("rms_max")) e.rms_max = c.child("rms_max").number_in(0, 1e12, "[0, 1e12]");
+        if (c.has("abs_max")) e.abs_max = c.child("abs_max").number_in(0, 1e12, "[0, 1e12]");
+        if (c.has("mean")) e.mean = min_max_pair(c.child("mean"));
+        if (c.has("min_samples")) e.min_samples = c.child("min_samples").count();
+        if (!e.rms_max && !e.abs_max && !e.mean.set()) c.fail("give at least one of rms_max, abs_max, mean");
+        return e;
+    }
     if (kind == "expect") {
         c.keys({"signal", "op", "value", "between"}, {"signal"});
         ExpectSignal e;
         e.signal = plant_signal_name(c.child("signal"));
         if (c.has("between")) {
             if (c.has("op") || c.has("value")) c.fail("give op and value, or between: [min, max], not both");
-            const Ctx b = c.child("between");
-            if (!b.node().IsSequence() || b.node().size() != 2) b.fail("expected [min, max]");
-            e.between.min = b.at(b.node()[0], b.key() + "[0]").number();
-            e.between.max = b.at(b.node()[1], b.key() + "[1]").number();
-            if (*e.between.min > *e.between.max) {
-                b.fail(fmt::format("min {} is above max {}", *e.between.min, *e.between.max));
-            }
+            e.between = min_max_pair(c.child("between"));
             return e;
         }
         if (!c.has("value")) c.fail("missing required key 'value' (or give between: [min, max])");

@@ -1,6 +1,7 @@
 // The readers of a scenario's values (yaml_ctx.hpp).
 #include "scenario/yaml_ctx.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <regex>
@@ -102,14 +103,34 @@ int wheel_number(const Ctx& c) {
     c.fail(fmt::format("'{}' is not a wheel (1 or right, 2 or left)", s));
 }
 
+Range min_max_pair(const Ctx& c) {
+    if (!c.node().IsSequence() || c.node().size() != 2) c.fail("expected [min, max]");
+    Range r;
+    r.min = c.at(c.node()[0], c.key() + "[0]").number();
+    r.max = c.at(c.node()[1], c.key() + "[1]").number();
+    if (*r.min > *r.max) c.fail(fmt::format("min {} is above max {}", *r.min, *r.max));
+    return r;
+}
+
 std::string plant_signal_name(const Ctx& c) {
     std::string s = c.str();
-    if (!is_plant_signal(s)) {
-        std::string list;
-        for (const std::string& n : plant_signal_names()) list += (list.empty() ? "" : ", ") + n;
-        c.fail(fmt::format("'{}' is not a plant signal (one of {})", s, list));
+    if (is_plant_signal(s)) return s;
+    const auto& world = world_signal_names();
+    if (std::find(world.begin(), world.end(), s) != world.end()) return s;
+    // NAME.COLUMN of a part on the board (its columns are checked when the
+    // robot is built, before the run: they depend on the part's options).
+    const std::size_t dot = s.find('.');
+    if (const hil::BoardWiring* wiring = c.wiring(); wiring != nullptr && dot != std::string::npos) {
+        const std::string part = s.substr(0, dot);
+        for (const hil::PartEntry& p : wiring->parts) {
+            if (p.name == part) return s;
+        }
     }
-    return s;
+    std::string list;
+    for (const std::string& n : plant_signal_names()) list += (list.empty() ? "" : ", ") + n;
+    for (const std::string& n : world) list += ", " + n;
+    // cppcheck-suppress missingReturn ; Ctx::fail is [[noreturn]] (it throws)
+    c.fail(fmt::format("'{}' is not a signal (one of {}, or a board part's truth column PART.COLUMN)", s, list));
 }
 
 std::optional<Cycles> optional_for(const Ctx& c) {

@@ -133,6 +133,9 @@ CompareOp compare_op(const Ctx& c);
 void check_regex(const Ctx& c, const std::string& pattern);
 /// A wheel: 1 or `right` (motor 1), 2 or `left` (motor 2).
 int wheel_number(const Ctx& c);
+/// `[A, B]` with A <= B (refused otherwise), as expect's between and
+/// expect-stats' mean take it.
+Range min_max_pair(const Ctx& c);
 /// The name of a plant signal (plant_signal_names()).
 std::string plant_signal_name(const Ctx& c);
 /// The step's optional `for:` duration.

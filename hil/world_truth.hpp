@@ -1,0 +1,35 @@
+#pragma once
+// The robot in its world, as truth.csv's columns and scenario signals
+// (docs/world.md, "Truth columns"):
+//   line_offset_m    the nearest line's centreline across the robot's
+//                    heading, from the middle of the wheel axle, positive to
+//                    the left (a world with lines only);
+//   wall_distance_m  the nearest wall from the middle of the wheel axle (a
+//                    world with walls only).
+// A world without lines or walls adds no columns: the plain floor's
+// truth.csv is what it was before worlds.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "plant/world.hpp"
+
+namespace ddmr::hil {
+
+class WorldTruth {
+public:
+    /// `world` must outlive this; `pose` is read at each values().
+    WorldTruth(const plant::World& world, std::function<plant::Pose()> pose);
+
+    [[nodiscard]] const std::vector<std::string>& columns() const { return columns_; }
+    /// Appends one value per column, at the pose now.
+    void values(std::vector<double>& out) const;
+
+private:
+    const plant::World& world_;
+    std::function<plant::Pose()> pose_;
+    std::vector<std::string> columns_;
+};
+
+}  // namespace ddmr::hil
