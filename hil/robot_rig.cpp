@@ -17,10 +17,12 @@ plant::RobotParams wired(plant::RobotParams p, const BoardWiring& board) {
     return p;
 }
 
-/// The robot at the world's start pose (none: the origin, heading +x).
+/// The robot at the world's start pose (none: the origin, heading +x),
+/// stopped by its walls. `world` must outlive the robot.
 plant::Robot at_start(const plant::RobotParams& params, const plant::World& world) {
     plant::Robot robot(params);
     if (world.start) robot.reset(*world.start);
+    if (!world.walls.empty()) robot.set_world(&world);
     return robot;
 }
 
@@ -53,9 +55,9 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       uart_(core_, host_usart(core_, config), config.uart_timing),
       eeprom_(core_),
       eeprom_timing_(core_, config.eeprom_timing),
-      robot_(at_start(wired(config.plant, config.board), config.world)),
+      robot_(at_start(wired(config.plant, config.board), config_.world)),
       parts_(core_, config.board.parts, PartRegistry::global(), [this] { return robot_.pose(); }, &config_.world),
-      world_truth_(config_.world, [this] { return robot_.pose(); }),
+      world_truth_(config_.world, robot_),
       driver_(core_, config.board, &parts_),
       encoders_(core_, config.board),
       coupler_(core_, robot_, driver_, encoders_, config.coupler, &parts_),

@@ -5,22 +5,24 @@
 //                    heading, from the middle of the wheel axle, positive to
 //                    the left (a world with lines only);
 //   wall_distance_m  the nearest wall from the middle of the wheel axle (a
-//                    world with walls only).
+//                    world with walls only);
+//   contact          1 while the body rests against a wall, else 0 (walls only);
+//   contacts         the contacts begun so far (walls only).
 // A world without lines or walls adds no columns: the plain floor's
 // truth.csv is what it was before worlds.
 
-#include <functional>
 #include <string>
 #include <vector>
 
+#include "plant/robot.hpp"
 #include "plant/world.hpp"
 
 namespace ddmr::hil {
 
 class WorldTruth {
 public:
-    /// `world` must outlive this; `pose` is read at each values().
-    WorldTruth(const plant::World& world, std::function<plant::Pose()> pose);
+    /// `world` and `robot` must outlive this; the robot is read at each values().
+    WorldTruth(const plant::World& world, const plant::Robot& robot);
 
     [[nodiscard]] const std::vector<std::string>& columns() const { return columns_; }
     /// Appends one value per column, at the pose now.
@@ -28,7 +30,7 @@ public:
 
 private:
     const plant::World& world_;
-    std::function<plant::Pose()> pose_;
+    const plant::Robot& robot_;
     std::vector<std::string> columns_;
 };
 

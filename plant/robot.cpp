@@ -58,6 +58,8 @@ void Robot::reset(const Pose& pose) {
     for (std::size_t m = 0; m < kMotorCount; ++m) encoder_[m].reset(0.0);
     status_ = StepStatus::ok;
     diverged_at_s_ = 0.0;
+    contact_.reset();
+    contact_held_ = {false, false};
 }
 
 void Robot::set_faults(const RobotFaults& faults) {
@@ -142,7 +144,7 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
             const MotorTerminal u = terminal(bridge_params(params_, m), input_.mode, input_.bridge[m],
                                              source_V - rb * other_supply_A[m], rb);
             DcMotorState x = before.motor[m];
-            if (faults_.shaft_locked[m]) {
+            if (held(m)) {
                 // Held shaft: it stops at once and stays stuck (unbounded stiction).
                 x.speed_rad_s = 0.0;
                 held_[m].advance(x, u, h, scratch_[m]);
@@ -169,7 +171,7 @@ bool Robot::substep(double h, EdgeBuffer& edges) {
     }
     for (std::size_t m = 0; m < kMotorCount; ++m) {
         if (!std::isfinite(state_.motor[m].angle_rad)) continue;  // caught below
-        if (faults_.shaft_locked[m]) continue;                      // no rotation, no edges
+        if (held(m)) continue;                                      // no rotation, no edges
         const MotorStepResult& r = scratch_[m];
         for (std::size_t k = 0; k < r.segment_count; ++k) {
             encoder_[m].process(stepper_[m], r.segments[k], before.t_s, before.t_s + h, edges);
@@ -199,7 +201,7 @@ bool Robot::finish_substep(const RobotState& before, double h) {
 }
 
 double Robot::joint_substep(double h, EdgeBuffer& edges) {
-    if (faults_.shaft_locked[0] || faults_.shaft_locked[1]) return 0.0;
+    if (held(0) || held(1)) return 0.0;
     const BatteryParams& bp = params_.battery;
     const double source_V = faults_.source_V ? *faults_.source_V : source_voltage_V(bp, state_.battery);
     std::array<CoupledTerminal, kMotorCount> u{};
@@ -229,7 +231,7 @@ bool Robot::open_circuit(std::size_t m) const {
 
 bool Robot::both_coasting() const {
     for (std::size_t m = 0; m < kMotorCount; ++m) {
-        if (!open_circuit(m) || faults_.shaft_locked[m]) return false;
+        if (!open_circuit(m) || held(m)) return false;
     }
     return true;
 }
@@ -265,6 +267,8 @@ StepResult Robot::step(double dt_s, EdgeBuffer& edges) {
     }
     const std::size_t first = edges.size();
     const std::uint64_t dropped_before = edges.dropped();
+    const bool walls = world_ != nullptr && !world_->walls.empty();
+    const RobotState before_step = walls ? state_ : RobotState{};
     const double t_end = state_.t_s + dt_s;
     const double max_h = params_.stepper.max_step_s;
     // Equal internal steps; a dt within the limit is used as given, so the
@@ -307,6 +311,7 @@ StepResult Robot::step(double dt_s, EdgeBuffer& edges) {
         }
     }
     state_.t_s = t_end;
+    if (walls) resolve_contact(before_step);
     // Merge the two channels' edges of this step by time (insertion sort: a
     // handful of edges, already sorted per channel; no allocation).
     EncoderEdge* e = edges.data();

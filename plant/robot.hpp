@@ -43,8 +43,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include "plant/battery.hpp"
+#include "plant/body_contact.hpp"
 #include "plant/bridge_driver.hpp"
 #include "plant/coupled_motors.hpp"
 #include "plant/dc_motor.hpp"
@@ -85,6 +88,14 @@ enum class StepStatus {
 };
 
 const char* to_string(StepStatus s);
+
+/// The body meeting a wall (body_contact.hpp).
+struct ContactEvent {
+    double t_s = 0.0;        ///< plant time of the step that would have entered the wall
+    double x_m = 0.0, y_m = 0.0;  ///< the contact point
+    double speed_m_s = 0.0;  ///< the robot's forward speed then (magnitude)
+    std::size_t wall = 0;    ///< index in World::walls
+};
 
 struct StepResult {
     StepStatus status = StepStatus::ok;
@@ -145,8 +156,24 @@ class Robot {
     [[nodiscard]] const RobotParams& params() const { return params_; }
     [[nodiscard]] const MotorStepper& motor_stepper(std::size_t m) const { return stepper_[m]; }
 
+    // --- the world's walls (body_contact.hpp) ------------------------------
+    /// The walls the body cannot pass through from now on (null: none); must
+    /// outlive the robot or be replaced first.
+    void set_world(const World* world);
+    /// Whether the body rests against a wall now.
+    [[nodiscard]] bool in_contact() const { return contact_.has_value(); }
+    /// Contacts begun so far; the first kContactLog of them in contacts().
+    [[nodiscard]] std::uint64_t contact_count() const { return contact_count_; }
+    [[nodiscard]] const std::vector<ContactEvent>& contacts() const { return contact_log_; }
+    static constexpr std::size_t kContactLog = 64;
+
   private:
     static RobotParams validated(const RobotParams& p);
+    /// A held shaft: a stall fault, or the wheels stalled against a wall.
+    [[nodiscard]] bool held(std::size_t m) const { return faults_.shaft_locked[m] || contact_held_[m]; }
+    /// After a step with walls: undoes a move into a wall and holds or frees
+    /// the wheels (body_contact.hpp). `before` is the state the step began in.
+    void resolve_contact(const RobotState& before);
     [[nodiscard]] bool input_valid() const;
     [[nodiscard]] double supply_current_A(std::size_t m) const;
     /// Both motors in one exact joint solution over up to h: returns the time
@@ -181,6 +208,11 @@ class Robot {
     std::array<MotorStepResult, kMotorCount> scratch_{};
     CoupledMotorStepper coupled_;
     CoupledSegment joint_{};
+    const World* world_ = nullptr;
+    std::optional<WallContact> contact_;     ///< the wall the body rests against
+    std::array<bool, kMotorCount> contact_held_{};  ///< stalled against it
+    std::uint64_t contact_count_ = 0;
+    std::vector<ContactEvent> contact_log_;  ///< reserved by set_world: step() does not allocate
 };
 
 }  // namespace ddmr::plant

@@ -65,6 +65,7 @@ bool operator==(const RobotParams& a, const RobotParams& b) {
            a.encoder[0].channels == b.encoder[0].channels &&
            a.encoder[1].channels == b.encoder[1].channels &&
            fields_equal(a.kinematics, b.kinematics, diff_drive_fields()) &&
+           fields_equal(a.body, b.body, body_fields()) &&
            fields_equal(a.stepper, b.stepper, stepper_fields());
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "plant/battery.hpp"
+#include "plant/body_contact.hpp"
 #include "plant/dc_motor.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/hall_encoder.hpp"
@@ -56,6 +57,7 @@ struct RobotParams {
     BatteryParams battery{};
     std::array<HallEncoderParams, 2> encoder{};
     DiffDriveParams kinematics{};
+    BodyParams body{};  ///< the chassis footprint and what the wheels do at a wall (YAML `body:`)
     StepperConfig stepper{};
 };
 
@@ -95,6 +97,7 @@ void for_each_section(R& p, V&& v) {
     v("encoder1", p.encoder[0], hall_encoder_fields());
     v("encoder2", p.encoder[1], hall_encoder_fields());
     v("kinematics", p.kinematics, diff_drive_fields());
+    v("body", p.body, body_fields());
     v("integration", p.stepper, stepper_fields());
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "plant/segment_clip.hpp"
 #include "plant/units.hpp"
 
 namespace ddmr::plant {
@@ -38,19 +39,6 @@ Eigen::Vector2d closest_on_arc(const LinePiece& arc, const Eigen::Vector2d& p) {
     return (p - s).squaredNorm() <= (p - e).squaredNorm() ? s : e;
 }
 
-/// The parameter interval [lo, hi] of w(t) = w0 + t dw, t in [lo, hi], where
-/// cross-product constraint f(t) = f0 + t df >= 0 holds; false when empty.
-bool clip(double f0, double df, double& lo, double& hi) {
-    if (df == 0.0) return f0 >= 0.0;
-    const double t = -f0 / df;
-    if (df > 0.0) {
-        lo = std::max(lo, t);
-    } else {
-        hi = std::min(hi, t);
-    }
-    return lo <= hi;
-}
-
 /// Wall `w`'s nearest point inside the cone's angle, or none.
 std::optional<ConeHit> hit_in_cone(const Wall& w, const Cone& cone) {
     const Eigen::Vector2d w0 = w.a_m - cone.origin_m;
@@ -59,8 +47,8 @@ std::optional<ConeHit> hit_in_cone(const Wall& w, const Cone& cone) {
     const Eigen::Vector2d left = unit(cone.direction_rad + cone.half_angle_rad);
     double lo = 0.0, hi = 1.0;
     // Counter-clockwise of the right edge, clockwise of the left edge.
-    if (!clip(cross(right, w0), cross(right, dw), lo, hi)) return std::nullopt;
-    if (!clip(-cross(left, w0), -cross(left, dw), lo, hi)) return std::nullopt;
+    if (!clip_to_half_plane(cross(right, w0), cross(right, dw), lo, hi)) return std::nullopt;
+    if (!clip_to_half_plane(-cross(left, w0), -cross(left, dw), lo, hi)) return std::nullopt;
     const double len2 = dw.squaredNorm();
     const double t = len2 == 0.0 ? lo : std::clamp(-w0.dot(dw) / len2, lo, hi);
     const Eigen::Vector2d ray = w0 + t * dw;

@@ -307,6 +307,7 @@ json summary_json(hil::Session& session, const RunPlan& plan, const FirmwareRunO
           {"clock_hz", core.clock_hz()},
           {"wiring_warnings", wiring_warnings}}},
         {"world", options.world_file ? json(options.world_file->string()) : json(nullptr)},
+        {"contacts", plan.config.world.walls.empty() ? json(nullptr) : contacts_json(rig.robot())},
         {"encoder", encoder_json(plan.config.board, result.encoder)},
         {"end_pose_truth", pose_json(result.end_pose_truth)},
         {"end_pose_firmware", result.end_pose_firmware ? pose_json(*result.end_pose_firmware) : json(nullptr)},

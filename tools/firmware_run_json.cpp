@@ -112,6 +112,14 @@ json isr_json(const hil::IsrSummary& s) {
                 {"raised_not_entered", s.raised_not_entered}};
 }
 
+json contacts_json(const plant::Robot& robot) {
+    json events = json::array();
+    for (const plant::ContactEvent& e : robot.contacts()) {
+        events.push_back({{"t_s", e.t_s}, {"x_m", e.x_m}, {"y_m", e.y_m}, {"speed_m_s", e.speed_m_s}, {"wall", e.wall}});
+    }
+    return json{{"count", robot.contact_count()}, {"in_contact_at_end", robot.in_contact()}, {"events", events}};
+}
+
 json pose_json(const plant::Pose& p) {
     return json{{"x_m", p.x_m}, {"y_m", p.y_m}, {"theta_rad", p.theta_rad}};
 }

@@ -15,6 +15,7 @@
 #include "hil/isr_monitor.hpp"
 #include "hil/loop_profiler.hpp"
 #include "plant/diff_drive_kinematics.hpp"
+#include "plant/robot.hpp"
 
 namespace ddmr::tools {
 
@@ -25,6 +26,9 @@ nlohmann::json loop_profile_json(const std::vector<hil::LoopIteration>& its, uin
 std::string loop_profile_table(const std::vector<hil::LoopIteration>& its, uint32_t clock_hz);
 nlohmann::json isr_json(const hil::IsrSummary& s);
 nlohmann::json pose_json(const plant::Pose& p);
+/// summary.json's `contacts` (a world with walls): how many times the body
+/// met a wall, and the first Robot::kContactLog of them: time, point, speed.
+nlohmann::json contacts_json(const plant::Robot& robot);
 /// summary.json's `encoder`: per channel its wiring and counts.
 nlohmann::json encoder_json(const hil::BoardWiring& board, const std::array<hil::EncoderChannelStats, 2>& stats);
 

@@ -58,8 +58,12 @@ TEST(RobotParams, EveryInvalidValueIsRejectedByName) {
                     } else if constexpr (std::is_same_v<T, int>) {
                         part.*m = -1;
                         expect_rejected(probe, name, "-1");
-                        part.*m = 0;
-                        expect_rejected(probe, name, "= 0");
+                        if (!f.range.contains(0.0)) {
+                            part.*m = 0;
+                            expect_rejected(probe, name, "= 0");
+                        }
+                        part.*m = 1000000000;  // above every upper bound
+                        expect_rejected(probe, name, "1000000000");
                         checked += 1;
                     }
                     part.*m = saved;
@@ -68,8 +72,9 @@ TEST(RobotParams, EveryInvalidValueIsRejectedByName) {
         }
     });
     // 8 motor fields x 2 + 4 bridge fields x 4 chips (driver = L298, tb6612,
-    // drv8833, l293d) + 4 battery + 5 encoder (non-seed) x 2 + 3 + 2 = 51
-    EXPECT_EQ(checked, 51);
+    // drv8833, l293d) + 4 battery + 5 encoder (non-seed) x 2 + 3 kinematics
+    // + 4 body + 2 integration = 55
+    EXPECT_EQ(checked, 55);
     EXPECT_TRUE(probe == defaults);  // every value restored
 }
 

@@ -800,5 +800,32 @@ TEST(RunCommand, AWorldFilePutsTheRobotAtItsStart) {
     EXPECT_DOUBLE_EQ(s["end_pose_truth"]["theta_rad"].get<double>(), 3.14159265358979323846 / 2);
 }
 
+// drive_fixture drives both wheels forward at full drive from reset: a wall
+// 0.3 m ahead stops the body with its front edge (0.09 m ahead of the axle)
+// at the wall; summary.json and truth.csv report the contact.
+TEST(RunCommand, AWallStopsTheRobotAndTheContactIsReported) {
+    TempDir dir;
+    std::ofstream(dir / "w.yaml") << "walls:\n  - {from_m: [0.3, -1], to_m: [0.3, 1]}\n";
+    const auto r = run_command(cli() + " run -q --seconds 1.5 --firmware " +
+                               sh_quote((test_firmware_dir() / "drive_fixture.elf").string()) + " --world " +
+                               sh_quote((dir / "w.yaml").string()) + " --out " + sh_quote((dir / "out").string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json s = json::parse(read_text(dir / "out" / "summary.json"));
+    EXPECT_EQ(s["contacts"]["count"], 1);
+    EXPECT_EQ(s["contacts"]["in_contact_at_end"], true);
+    const json& e = s["contacts"]["events"][0];
+    EXPECT_DOUBLE_EQ(e["x_m"].get<double>(), 0.3);
+    EXPECT_GT(e["speed_m_s"].get<double>(), 0.4);  // it met the wall at speed (top speed ~0.6 m/s)
+    EXPECT_GT(e["t_s"].get<double>(), 0.2);        // 0.21 m from rest
+    EXPECT_LT(e["t_s"].get<double>(), 0.8);
+    EXPECT_LT(s["end_pose_truth"]["x_m"].get<double>(), 0.3 - 0.09 + 1e-9);
+    EXPECT_GT(s["end_pose_truth"]["x_m"].get<double>(), 0.3 - 0.09 - 0.002);  // a corner may touch first
+    const std::string truth = read_text(dir / "out" / "truth.csv");
+    const std::string header = truth.substr(0, truth.find('\n'));
+    EXPECT_NE(header.find(",wall_distance_m,contact,contacts"), std::string::npos) << header;
+    const std::string last = truth.substr(truth.rfind('\n', truth.size() - 2) + 1);
+    EXPECT_EQ(last.substr(last.size() - 5), ",1,1\n") << last;  // touching, one contact
+}
+
 }  // namespace
 }  // namespace ddmr::test

@@ -70,7 +70,7 @@ const std::vector<std::string>& plant_signal_names() {
 }
 
 const std::vector<std::string>& world_signal_names() {
-    static const std::vector<std::string> names{"line_offset_m", "wall_distance_m"};
+    static const std::vector<std::string> names{"line_offset_m", "wall_distance_m", "contact", "contacts"};
     return names;
 }
 

@@ -133,7 +133,8 @@ bool is_plant_signal(std::string_view name);
 /// The signal's value in `t` (as truth.csv writes it; dir as 1/0). Throws
 /// std::invalid_argument for an unknown name.
 double plant_signal(const hil::TruthSample& t, std::string_view name);
-/// The world's signals (hil/world_truth.hpp): line_offset_m, wall_distance_m.
+/// The world's signals (hil/world_truth.hpp): line_offset_m, wall_distance_m,
+/// contact, contacts.
 const std::vector<std::string>& world_signal_names();
 
 struct WaitUntil {  ///< `wait-until: {signal: x_m, op: ">=", value: 0.1, timeout: 7s}`
