@@ -18,6 +18,8 @@ std::vector<PartType> builtin_part_types() {
         reflectance_type(),
         marker_type(),
         ultrasonic_hcsr04_type(),
+        ir_obstacle_type(),
+        bumper_type(),
     };
 }
 

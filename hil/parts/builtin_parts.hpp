@@ -16,6 +16,8 @@ PartType driver_drv8833_type();           // driver_drv8833.cpp
 PartType driver_l293d_type();             // driver_l293d.cpp
 PartType encoder_single_type();           // encoder_single.cpp
 PartType encoder_quadrature_type();       // encoder_quadrature.cpp
+PartType bumper_type();                   // bumper.cpp
+PartType ir_obstacle_type();              // ir_obstacle.cpp
 PartType marker_type();                   // marker.cpp
 PartType reflectance_type();              // reflectance.cpp
 PartType ultrasonic_hcsr04_type();        // ultrasonic_hcsr04.cpp
