@@ -20,6 +20,7 @@ std::vector<PartType> builtin_part_types() {
         ultrasonic_hcsr04_type(),
         ir_obstacle_type(),
         bumper_type(),
+        servo_type(),
     };
 }
 

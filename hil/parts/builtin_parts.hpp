@@ -20,6 +20,7 @@ PartType bumper_type();                   // bumper.cpp
 PartType ir_obstacle_type();              // ir_obstacle.cpp
 PartType marker_type();                   // marker.cpp
 PartType reflectance_type();              // reflectance.cpp
+PartType servo_type();                    // servo.cpp
 PartType ultrasonic_hcsr04_type();        // ultrasonic_hcsr04.cpp
 
 }  // namespace ddmr::hil

@@ -1,0 +1,81 @@
+// The servo part on a fixture that makes its pulses as the Arduino Servo
+// library does, each number worked out by hand (hil/parts/servo.cpp).
+#include <gtest/gtest.h>
+
+#include "hil/cycle_time.hpp"
+#include "hil/parts/part_registry.hpp"
+#include "hil/parts/part_set.hpp"
+#include "support/board_file.hpp"
+#include "support/fixture_core.hpp"
+#include "support/part_truth.hpp"
+
+namespace ddmr::test {
+namespace {
+
+struct ServoRig {
+    TempDir dir;
+    FixtureCore fx{"servo_fixture"};
+    hil::PartSet parts;
+    explicit ServoRig(const std::string& entry)
+        : parts(fx.core, uno_with_parts(dir, entry).parts, hil::PartRegistry::global(), [] { return plant::Pose{}; }) {}
+    /// Pulses of `us` microseconds (0.5 us ticks) from now.
+    void send_us(double us) {
+        fx.core.run_until(std::max<hil::Cycles>(fx.core.cycle(), FixtureCore::kPastStartup));
+        const auto ticks = static_cast<uint16_t>(us * 2.0);
+        fx.core.raw()->data[fx.address("pulse_ticks")] = static_cast<uint8_t>(ticks & 0xFF);
+        fx.core.raw()->data[fx.address("pulse_ticks") + 1] = static_cast<uint8_t>(ticks >> 8);
+    }
+    void run_ms(double ms) { fx.core.run_until(fx.core.cycle() + hil::ms_to_cycles(ms, fx.core.clock_hz())); }
+};
+
+const std::string kServo = "  - {name: pan, type: servo, SIGNAL: 9}\n";
+
+TEST(Servo, WriteNinetyIs1472MicrosecondsAndNinetyDegrees) {
+    // Servo::write(90): map(90, 0, 180, 544, 2400) = 544 + 90 x 1856 / 180 = 1472 us.
+    ServoRig rig(kServo);
+    rig.send_us(1472);
+    rig.run_ms(100);
+    // The fixture's interrupt makes each pulse 22 cycles (1.375 us) longer
+    // than its ticks: the branch that ends a pulse writes PORTB later in the
+    // ISR than the one that starts it (the Servo library trims 2 us for the
+    // same reason, TRIM_DURATION). (1472 - 544) / 1856 x 180 = 90.0 degrees;
+    // 1.375 us more is 0.133 degrees more.
+    const double pulse = truth_value(rig.parts, "pan.pulse_us");
+    EXPECT_NEAR(pulse, 1472.0 + 1.375, 0.01);
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), (pulse - 544.0) / 1856.0 * 180.0, 1e-9);
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), 90.0, 0.14);
+}
+
+TEST(Servo, TurnsAtItsSlewRateToTheEndStop) {
+    // From 90 degrees at power-on toward 0 (544 us) at 600 deg/s. The
+    // fixture's first pulse starts when Timer1 first reaches 40000 ticks
+    // (20 ms) and ends 545.4 us later: the horn starts turning then. At
+    // 100.0625 ms (the request at 62.5 us, then 100 ms) it has turned
+    // 600 x (100.0625 - 20.545) ms = 47.7 degrees: it stands at 42.3.
+    ServoRig rig(kServo);
+    rig.send_us(544);
+    rig.run_ms(100);
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), 90.0 - 600.0 * (100.0625 - 20.545) * 1e-3, 0.2);
+    rig.run_ms(100);  // 150 ms of turning are over: at the end stop (0.133 for the fixture's 1.375 us)
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), 0.133, 0.01);
+    // Beyond the end stops: clamped.
+    rig.send_us(2600);
+    rig.run_ms(400);
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), 180.0, 1e-9);
+}
+
+TEST(Servo, IgnoresChangesInsideItsDeadBandAndHoldsWhenThePulsesStop) {
+    ServoRig rig(kServo);
+    rig.send_us(1472);
+    rig.run_ms(60);
+    const double held = truth_value(rig.parts, "pan.angle_deg");
+    rig.send_us(1477);  // 5 us: inside the 10 us dead band
+    rig.run_ms(60);
+    EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.angle_deg"), held);
+    rig.send_us(0);  // no more pulses
+    rig.run_ms(100);
+    EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.angle_deg"), held);
+}
+
+}  // namespace
+}  // namespace ddmr::test
