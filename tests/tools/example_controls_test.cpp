@@ -3,6 +3,9 @@
 // are the example_scenarios test (tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <string>
+
 #include "support/scenario_cli.hpp"
 #include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
@@ -20,6 +23,15 @@ struct Control {
 };
 
 class ExampleControl : public ::testing::TestWithParam<Control> {};
+
+/// The test's name: the scenario's, as gtest allows it (letters, digits, _).
+std::string control_name(const ::testing::TestParamInfo<Control>& p) {
+    std::string n = p.param.name;
+    for (char& ch : n) {
+        if (std::isalnum(static_cast<unsigned char>(ch)) == 0) ch = '_';
+    }
+    return n;
+}
 
 TEST_P(ExampleControl, FailsItsScenario) {
     const Control& c = GetParam();
@@ -40,7 +52,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         // The two line sensors' pins swapped: the sketch steers away from the line.
         Control{"line_follower_digital/scenario_swapped.yaml", "line_follower_digital_swapped", "expect-stats",
-                "expected rms <= 0.003; row_middle.line_offset_m over 3000 samples"}));
+                "expected rms <= 0.003; row_middle.line_offset_m over 3000 samples"}),
+    control_name);
 
 }  // namespace
 }  // namespace ddmr::test
