@@ -380,6 +380,13 @@ std::vector<FailingCase> plant_cases() {
             .measuring(-0.02, -0.02)
             .in_world(kTapeAlongX + "start: {x_m: 0, y_m: 0.02, heading_deg: 0}\n")
             .on_board(kThesisBoardWith + "parts:\n  - {name: nose, type: marker, x_mm: 50}\n"),
+        // echo_fixture leaves the robot standing: set down at (0.4, -0.2),
+        // heading 90 degrees, it is 0.447 m from the origin.
+        action("place", 0, "place_moves_the_robot", kEcho,
+               {"place: {x_m: 0.4, y_m: -0.2, heading_deg: 90}",
+                "expect-pose: {x_m: 0, y_m: 0, tol_m: 0.1}"},
+               R"(expected the truth pose within 0\.1 m of \(0\.0000, 0\.0000\); got \(0\.4000, -0\.2000\) )"
+               R"(theta 1\.5708 rad, 0\.4472 m away)"),
         // A reset clears DDRB and PORTB: D12 is an input again, read low.
         action("reset", 1, "reset_clears_the_pins", kDrive, {"delay: 1ms", "reset", "expect-pin: {pin: 12, value: 1}"},
                R"(expected pin 12 = 1, got 0)"),

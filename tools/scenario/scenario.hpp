@@ -191,12 +191,17 @@ struct Slip {  ///< `slip: {wheel: 1, traction: 0.3, for: 500ms}`
 struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0}`: the robot is displaced
     double dx_m = 0.0, dy_m = 0.0, dtheta_rad = 0.0;
 };
+/// `place: {x_m, y_m, heading_deg}`: the robot is set down at this pose (a
+/// hand lifting it; the wheels keep turning as they were, odometry does not see it).
+struct Place {
+    double x_m = 0.0, y_m = 0.0, heading_deg = 0.0;
+};
 struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
 
 using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
                                 ExpectPart, ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
                                 ExpectIsr, ExpectNoTornReads, ExpectEncoders, WaitUntil, ExpectSignal, Measure, ExpectStats, InjectDrop,
-                                Stall, Battery, Slip, Push, Reset>;
+                                Stall, Battery, Slip, Push, Place, Reset>;
 
 struct Step {
     int line = 0;        ///< 1-based line in the scenario file

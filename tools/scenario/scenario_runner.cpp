@@ -17,6 +17,7 @@
 #include "common/atomic_file.hpp"
 #include "common/csv_table.hpp"
 #include "common/truth_csv.hpp"
+#include "plant/units.hpp"
 #include "scenario/scenario_signals.hpp"
 #include "comparison.hpp"
 #include "exit_codes.hpp"
@@ -509,6 +510,11 @@ private:
         const auto m = static_cast<std::size_t>(sl.wheel - 1);
         set_faults([&](plant::RobotFaults& f) { f.traction[m] = sl.traction; });
         if (sl.duration) at(core().cycle() + *sl.duration, [this, m] { set_faults([m](plant::RobotFaults& f) { f.traction[m] = 1.0; }); });
+        return {};
+    }
+    std::string run_step(const Place& p) {
+        const plant::Pose now = rig_->robot().pose();
+        rig_->robot().displace({p.x_m - now.x_m, p.y_m - now.y_m, p.heading_deg * plant::kPi / 180.0 - now.theta_rad});
         return {};
     }
     std::string run_step(const Push& p) {

@@ -58,6 +58,8 @@ const std::vector<StepInfo>& step_catalog() {
         {"slip", "{wheel, traction, for}", "only this fraction of the wheel's rolling moves the robot",
          "slip: {wheel: right, traction: 0.5, for: 1s}"},
         {"push", "{dx_m, dy_m, dtheta_rad}", "the robot is displaced; odometry does not see it", "push: {dx_m: 0.01}"},
+        {"place", "{x_m, y_m, heading_deg}", "the robot is set down at this pose; odometry does not see it",
+         "place: {x_m: 0.5, y_m: 0, heading_deg: 90}"},
         {"reset", "(no value) | {}", "AVR reset, as by the RESET pin; the robot keeps moving", "reset"},
     };
     return steps;

@@ -31,6 +31,12 @@ std::optional<StepAction> parse_fault_step(const std::string& kind, const Ctx& c
         if (c.has("dtheta_rad")) p.dtheta_rad = c.child("dtheta_rad").number_in(-10, 10, "[-10, 10] rad");
         return p;
     }
+    if (kind == "place") {
+        c.keys({"x_m", "y_m", "heading_deg"}, {"x_m", "y_m", "heading_deg"});
+        return Place{c.child("x_m").number_in(-1000, 1000, "[-1000, 1000] m"),
+                     c.child("y_m").number_in(-1000, 1000, "[-1000, 1000] m"),
+                     c.child("heading_deg").number_in(-3600, 3600, "[-3600, 3600] degrees")};
+    }
     if (kind == "reset") {
         if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) c.fail("takes no value");
         return Reset{};
