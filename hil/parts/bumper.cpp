@@ -32,7 +32,7 @@ namespace {
 class Bumper final : public Part {
 public:
     explicit Bumper(const PartContext& ctx)
-        : core_(ctx.core()), pose_(ctx.pose_source()), world_(ctx.world()), mount_(mount_of(ctx, false)),
+        : pose_(ctx.pose_source()), world_(ctx.world()), mount_(mount_of(ctx, false)),
           pin_(ctx.output_pin("OUT")), reach_m_(ctx.number("reach_mm") * 1e-3),
           bounce_(s_to_cycles(ctx.number("bounce_ms") * 1e-3, ctx.core().clock_hz())),
           bounces_(static_cast<int>(ctx.number("bounces"))), driver_(ctx.core()), probe_(ctx.core(), pin_),
@@ -71,7 +71,6 @@ private:
     /// The pin's level: LOW while closed; open, the pull-up's (floating: LOW).
     [[nodiscard]] bool level(bool pressed) const { return !pressed && probe_.state().pull_up; }
 
-    AvrCore& core_;
     std::function<plant::Pose()> pose_;
     const plant::World& world_;
     SensorMount mount_;

@@ -68,24 +68,27 @@ void RigSignals::check_steps(const Scenario& s) const {
     }
 }
 
-double RigSignals::value(const hil::TruthSample& t, const std::string& name) const {
-    if (is_plant_signal(name)) return plant_signal(t, name);
+std::size_t RigSignals::extra_index(const std::string& name) const {
     const auto it = std::find(extra_.begin(), extra_.end(), name);
     if (it == extra_.end()) throw std::logic_error("RigSignals: '" + name + "' was not checked");
-    values_.clear();
-    rig_.extra_truth_values(values_);
-    return values_[static_cast<std::size_t>(it - extra_.begin())];
+    return static_cast<std::size_t>(it - extra_.begin());
 }
 
 double RigSignals::now(const std::string& name) const {
-    return value(hil::truth_sample_of(rig_.robot(), rig_.core().cycle()), name);
+    if (is_plant_signal(name)) return plant_signal(hil::truth_sample_of(rig_.robot(), rig_.core().cycle()), name);
+    values_.clear();
+    rig_.extra_truth_values(values_);
+    return values_[extra_index(name)];
 }
 
 void RigSignals::measure(const std::string& name) { stats_[name] = Stats{}; }
 
 void RigSignals::on_truth(const hil::TruthSample& sample) {
+    if (stats_.empty()) return;
+    values_.clear();
+    rig_.extra_truth_values(values_);  // once for every measured signal of this sample
     for (auto& [name, st] : stats_) {
-        const double v = value(sample, name);
+        const double v = is_plant_signal(name) ? plant_signal(sample, name) : values_[extra_index(name)];
         st.min = st.n == 0 ? v : std::min(st.min, v);
         st.max = st.n == 0 ? v : std::max(st.max, v);
         st.sum += v;

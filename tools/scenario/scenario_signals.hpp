@@ -51,7 +51,8 @@ private:
         double sum = 0.0, sum_sq = 0.0, min = 0.0, max = 0.0;
     };
     [[nodiscard]] bool has(const std::string& name) const;
-    [[nodiscard]] double value(const hil::TruthSample& t, const std::string& name) const;
+    /// The position of a world or part signal in extra_ (checked: present).
+    [[nodiscard]] std::size_t extra_index(const std::string& name) const;
 
     hil::RobotRig& rig_;
     std::vector<std::string> extra_;  ///< RobotRig::extra_truth_columns()
