@@ -49,7 +49,7 @@ V T::*field_of(DriverRole r) {
 }  // namespace
 
 MotorDriverReader::MotorDriverReader(AvrCore& core, const BoardWiring& board, const PartSet* parts)
-    : board_((validate(board), board)), pins_(core, driver_pins(board)) {
+    : board_((validate(board), board)), pins_(core, driver_pins(board)), core_clock_hz_(core.clock_hz()) {
     if (board.model != core.board().model) {
         throw std::logic_error(std::string("MotorDriverReader: the wiring is for board ") +
                                board_description(board.model).key + ", the core runs " + core.board().key);
@@ -159,13 +159,23 @@ uint64_t MotorDriverReader::revision(std::size_t m) const {
     return r;
 }
 
+std::string MotorDriverReader::takeover_warning(std::size_t m, const Input& in, const PinWaveforms::Takeover& t) const {
+    const std::string pin = sketch_pin_name(board_description(board_.model), in.pin);
+    return fmt::format("pin {} ({}) is OC{}{} of Timer{}, which the firmware ran in {} mode (WGM {}) from {:.4f} s: "
+                       "analogWrite({}) makes no PWM there (the Servo library takes Timer1 so on the Uno: D9, D10)",
+                       pin, input_label(board_, m, in.role), t.timer, t.channel, t.timer, t.ctc ? "CTC" : "normal",
+                       t.wgm, cycles_to_s(t.since, core_clock_hz_), pin);
+}
+
 std::vector<std::string> MotorDriverReader::wiring_warnings() const {
     std::vector<std::string> out;
     for (std::size_t m = 0; m < 2; ++m) {
         const Wheel& w = wheel_[m];
         for (std::size_t i = 0; i < w.count; ++i) {
             const Input& in = w.inputs[i];
-            if (in.tied_high || in.signal != nullptr || pins_.ever_output(in.pin)) continue;
+            if (in.tied_high || in.signal != nullptr) continue;
+            if (const auto t = pins_.takeover(in.pin)) out.push_back(takeover_warning(m, in, *t));
+            if (pins_.ever_output(in.pin)) continue;
             const bool pullup = pins_.mode(in.pin) == PinMode::input_pullup;
             out.push_back(fmt::format("pin {} ({}) is never set as an output: the driver sees only {}",
                                       sketch_pin_name(board_description(board_.model), in.pin),

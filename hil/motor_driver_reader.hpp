@@ -62,7 +62,10 @@ public:
 
     /// One line per wired driver input the firmware never made an output
     /// (call at the end of a run): "pin 12 (right L298N EN) is never set as
-    /// an output: the driver sees only the pull-up".
+    /// an output: the driver sees only the pull-up"; and one per input whose
+    /// timer the firmware took over (PinWaveforms::takeover): "pin 9 (left
+    /// L298N EN) is OC1A of Timer1, which the firmware ran in normal mode
+    /// (WGM 0) from 0.0012 s: analogWrite(9) makes no PWM there ...".
     [[nodiscard]] std::vector<std::string> wiring_warnings() const;
 
     [[nodiscard]] const BoardWiring& board() const { return board_; }
@@ -88,6 +91,7 @@ private:
         std::size_t count = 0;
     };
     [[nodiscard]] bool level_of(const Input& in, Cycles cycle) const;
+    [[nodiscard]] std::string takeover_warning(std::size_t m, const Input& in, const PinWaveforms::Takeover& t) const;
     [[nodiscard]] double duty_of(const Input& in) const;
 
     /// The averaged drive of a wheel as of a PinWaveforms revision: it
@@ -102,6 +106,7 @@ private:
 
     BoardWiring board_;
     PinWaveforms pins_;
+    double core_clock_hz_;
     std::array<Wheel, 2> wheel_{};
     mutable std::array<AveragedCache, 2> averaged_{};
 };

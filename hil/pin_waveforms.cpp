@@ -158,10 +158,33 @@ bool PinWaveforms::refresh_connections() {
         if (!p.watched) continue;
         const TimerOutputDecoder* t = p.info.oc ? timer_of(p.info.number) : nullptr;
         const bool connected = p.mode == PinMode::output && t != nullptr && t->connected(p.info.oc->channel);
+        track_takeover(p, t, connected);
         changed = changed || connected != p.connected;
         p.connected = connected;
     }
     return changed;
+}
+
+void PinWaveforms::track_takeover(Pin& p, const TimerOutputDecoder* t, bool connected) {
+    if (p.takeover) return;
+    const bool without_pwm = connected && t->running() && !t->pwm_mode();
+    const Cycles now = core_.cycle();
+    if (without_pwm) {
+        if (!p.takeover_open) {
+            p.takeover_open = Takeover{now, t->wgm(), t->ctc_mode(), timers_[static_cast<std::size_t>(p.info.oc->timer)].index,
+                                       static_cast<char>('A' + p.info.oc->channel)};
+        }
+        return;
+    }
+    if (p.takeover_open && now - p.takeover_open->since >= kTakeoverMinCycles) p.takeover = p.takeover_open;
+    p.takeover_open.reset();
+}
+
+std::optional<PinWaveforms::Takeover> PinWaveforms::takeover(int pin) const {
+    const Pin& p = pin_[static_cast<std::size_t>(pin)];
+    if (p.takeover) return p.takeover;
+    if (p.takeover_open && core_.cycle() - p.takeover_open->since >= kTakeoverMinCycles) return p.takeover_open;
+    return std::nullopt;
 }
 
 void PinWaveforms::advance_to(Cycles cycle) {

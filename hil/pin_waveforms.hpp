@@ -64,6 +64,23 @@ public:
     /// The timer decoder behind the pin's OC unit, if the pin has one and it is watched.
     [[nodiscard]] const TimerOutputDecoder* timer_of(int pin) const;
 
+    /// A pin whose timer the firmware took over: the pin's compare output
+    /// was switched on (analogWrite) while its timer ran in a mode that makes
+    /// no PWM (normal or CTC: the Servo library puts Timer1 in normal mode),
+    /// for at least kTakeoverMinCycles (a firmware setting a timer up
+    /// register by register passes through such states for a few cycles).
+    struct Takeover {
+        Cycles since = 0;  ///< the first such stretch's start
+        uint8_t wgm = 0;   ///< the timer's mode then
+        bool ctc = false;  ///< that mode is CTC (else normal)
+        int timer = 0;     ///< n of Timer n
+        char channel = 'A';  ///< the pin's OCnx
+    };
+    static constexpr Cycles kTakeoverMinCycles = 16000;  ///< 1 ms at 16 MHz
+    /// The pin's first takeover so far (a stretch still running counts once
+    /// it is long enough), if any.
+    [[nodiscard]] std::optional<Takeover> takeover(int pin) const;
+
     /// Increases whenever anything a pin's waveform depends on may have
     /// changed (a register value, a buffered update applied): for caches.
     [[nodiscard]] uint64_t revision() const { return revision_; }
@@ -86,6 +103,8 @@ private:
         bool port_bit = false;
         bool ever_output = false;
         bool connected = false;  ///< output and COM connects the OC unit
+        std::optional<Takeover> takeover_open;  ///< a stretch without PWM is running
+        std::optional<Takeover> takeover;       ///< the first stretch long enough
     };
     struct Hook {
         PinWaveforms* self = nullptr;
@@ -97,6 +116,7 @@ private:
     void sample_timer(std::size_t t);
     /// Updates each pin's `connected`; true if one changed.
     bool refresh_connections();
+    void track_takeover(Pin& p, const TimerOutputDecoder* t, bool connected);
     void note_change(Cycles cycle);
 
     AvrCore& core_;

@@ -113,6 +113,16 @@ public:
     [[nodiscard]] Cycles period_cycles(int ch) const;
     /// Clock select != stopped (an external clock counts as stopped).
     [[nodiscard]] bool running() const { return prescaler_ != 0; }
+    /// CTC mode (clear timer on compare match).
+    [[nodiscard]] bool ctc_mode() const { return mode_.kind == WaveKind::kCtc; }
+    /// The waveform generation mode WGMn in effect.
+    [[nodiscard]] uint8_t wgm() const { return wgm_; }
+    /// A mode that makes PWM (fast, phase correct, phase and frequency correct),
+    /// not normal, CTC or a reserved mode.
+    [[nodiscard]] bool pwm_mode() const {
+        return mode_.kind == WaveKind::kFastPwm || mode_.kind == WaveKind::kPhaseCorrect ||
+               mode_.kind == WaveKind::kPhaseFreqCorrect;
+    }
     /// When the next pending buffered update takes effect, or kNever.
     [[nodiscard]] Cycles pending_update_cycle() const { return pending_cycle_; }
 

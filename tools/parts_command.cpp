@@ -28,13 +28,15 @@ const char* kind_word(PartKeyKind kind) {
         case PartKeyKind::input: return "input";
         case PartKeyKind::output_pin: return "output";
         case PartKeyKind::option: return "option";
+        case PartKeyKind::carrier: return "carrier";
     }
     return "?";
 }
 
-/// "required" or "default low".
+/// "required", "default low", or a carrier's "default: none".
 std::string required_or_default(const PartKey& k) {
-    return k.required ? std::string("required") : "default " + k.default_value;
+    if (k.required) return "required";
+    return k.kind == PartKeyKind::carrier ? std::string("default: none") : "default " + k.default_value;
 }
 
 /// An option's allowed values ("0..10", "one of fast, slow"); empty for pins and inputs.
@@ -95,6 +97,7 @@ std::string markdown_values(const PartKey& k) {
     switch (k.kind) {
         case PartKeyKind::input: return "a pin, `NAME.PORT`, `high`, `low`";
         case PartKeyKind::output_pin: return "a pin";
+        case PartKeyKind::carrier: return "a part's name";
         case PartKeyKind::option: break;
     }
     if (!k.choices.empty()) return code_list(k.choices);
@@ -107,7 +110,9 @@ void append_type_markdown(std::string& t, const PartType& type) {
     if (!type.keys.empty()) {
         t += "| key | kind | required / default | values | meaning |\n| --- | --- | --- | --- | --- |\n";
         for (const PartKey& k : type.keys) {
-            const std::string req = k.required ? std::string("required") : "`" + k.default_value + "`";
+            const std::string req = k.required                          ? std::string("required")
+                                    : k.kind == PartKeyKind::carrier ? std::string("none")
+                                                                     : "`" + k.default_value + "`";
             t += fmt::format("| `{}` | {} | {} | {} | {} |\n", k.name, kind_word(k.kind), req, markdown_values(k),
                              cell(k.description));
         }
@@ -130,6 +135,7 @@ nlohmann::ordered_json key_schema(const PartKey& k) {
     switch (k.kind) {
         case PartKeyKind::input: s["$ref"] = "#/$defs/partInput"; break;
         case PartKeyKind::output_pin: s["$ref"] = "#/$defs/pin"; break;
+        case PartKeyKind::carrier: s["type"] = "string"; break;
         case PartKeyKind::option:
             if (!k.choices.empty()) {
                 s["enum"] = k.choices;
@@ -140,14 +146,17 @@ nlohmann::ordered_json key_schema(const PartKey& k) {
             }
             break;
     }
-    if (!k.required) {
+    if (!k.required && k.kind != PartKeyKind::carrier) {
         if (k.kind == PartKeyKind::option && k.choices.empty()) {
             s["default"] = json_number(std::stod(k.default_value));
         } else {
             s["default"] = k.default_value;
         }
     }
-    const char* kind = k.kind == PartKeyKind::input ? "Input" : k.kind == PartKeyKind::output_pin ? "Output pin" : "Option";
+    const char* kind = k.kind == PartKeyKind::input        ? "Input"
+                       : k.kind == PartKeyKind::output_pin ? "Output pin"
+                       : k.kind == PartKeyKind::carrier    ? "A part's name"
+                                                           : "Option";
     s["description"] = fmt::format("{}. {}, {}.", k.description, kind, required_or_default(k));
     return s;
 }

@@ -20,10 +20,10 @@ namespace {
 class IrObstacle final : public Part {
 public:
     explicit IrObstacle(const PartContext& ctx)
-        : pose_(ctx.pose_source()), world_(ctx.world()), mount_(mount_of(ctx, true)), pin_(ctx.output_pin("OUT")),
+        : pose_(ctx.pose_source()), world_(ctx.world()), placement_(ctx), pin_(ctx.output_pin("OUT")),
           range_m_(ctx.number("range_cm") * 1e-2), half_angle_rad_(ctx.number("cone_deg") * plant::kPi / 360.0),
           active_low_(ctx.text("active") == "low"), driver_(ctx.core()), none_(ctx.name()) {
-        detected_ = sees();
+        detected_ = sees(ctx.core().cycle());
         driver_.drive_now(pin_, level());
     }
 
@@ -31,18 +31,19 @@ public:
     std::vector<std::string> truth_columns() const override { return {"detected"}; }
     void truth_values(std::vector<double>& out) const override { out.push_back(detected_ ? 1.0 : 0.0); }
     void on_plant_step(Cycles pose_cycle) override {
-        const bool detected = sees();
+        const bool detected = sees(pose_cycle);
         if (detected == detected_) return;
         detected_ = detected;
         driver_.schedule(pin_, pose_cycle, level());
     }
 
 private:
-    [[nodiscard]] bool sees() const {
+    [[nodiscard]] bool sees(Cycles cycle) const {
         const plant::Pose pose = pose_();
+        const SensorMount mount = placement_.at(cycle);
         plant::Cone cone;
-        cone.origin_m = world_point(pose, mount_);
-        cone.direction_rad = world_heading_rad(pose, mount_);
+        cone.origin_m = world_point(pose, mount);
+        cone.direction_rad = world_heading_rad(pose, mount);
         cone.half_angle_rad = half_angle_rad_;
         cone.max_incidence_rad = plant::kPi / 2;  // diffuse reflection: any angle returns light
         cone.max_range_m = range_m_;
@@ -52,7 +53,7 @@ private:
 
     std::function<plant::Pose()> pose_;
     const plant::World& world_;
-    SensorMount mount_;
+    SensorPlacement placement_;
     int pin_;
     double range_m_;
     double half_angle_rad_;
@@ -76,6 +77,7 @@ PartType ir_obstacle_type() {
     t.keys.push_back(PartKey::number("cone_deg", "the detection angle, full [deg]", 35, 1, 120));
     t.keys.push_back(PartKey::choice("active", "low (OUT LOW on an obstacle, FC-51) or high", {"low", "high"}));
     t.create = [](const PartContext& ctx) { return std::make_unique<IrObstacle>(ctx); };
+    t.check = [](const PartEntry& e, const BoardDescription& /*board*/) { return check_mount(e); };
     return t;
 }
 

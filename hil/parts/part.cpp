@@ -53,6 +53,15 @@ int PartContext::output_pin(const std::string& key) const { return value_of(entr
 
 const std::string& PartContext::text(const std::string& key) const { return value_of(entry_, key).text; }
 
+const Part* PartContext::carrier(const std::string& key) const {
+    const std::string& name = value_of(entry_, key).text;
+    if (name.empty()) return nullptr;
+    if (!part_of_) {
+        throw std::logic_error(fmt::format("part '{}': no parts to find carrier '{}' among", entry_.name, name));
+    }
+    return &part_of_(name);
+}
+
 double PartContext::number(const std::string& key) const { return std::stod(value_of(entry_, key).text); }
 
 }  // namespace ddmr::hil

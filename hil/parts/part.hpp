@@ -34,6 +34,7 @@ enum class PartKeyKind : uint8_t {
     input,       ///< a signal the part reads: a pin, NAME.PORT (another part's output), high or low
     output_pin,  ///< a board pin the part drives
     option,      ///< a value: a number in [lo, hi], or one of `choices`
+    carrier,     ///< the name of another part this one sits on (a sonar on a servo's horn); optional
 };
 
 struct PartKey {
@@ -57,6 +58,18 @@ struct PartKey {
     }
     static PartKey number(std::string name, std::string description, double fallback, double lo, double hi);
     static PartKey choice(std::string name, std::string description, std::vector<std::string> choices);
+    /// The part this one sits on (left out: the chassis).
+    static PartKey carrier(std::string name, std::string description) {
+        return {std::move(name), PartKeyKind::carrier, std::move(description), false, {}, {}, 0.0, 0.0};
+    }
+};
+
+/// Where a sensor sits in the robot's frame (origin at the middle of the
+/// wheel axle, x forward, y to the left; sensor_mount.hpp).
+struct SensorMount {
+    double x_m = 0.0;
+    double y_m = 0.0;
+    double heading_rad = 0.0;  ///< a directional sensor's axis (0: straight ahead)
 };
 
 /// An output other parts can read as "NAME.PORT".
@@ -84,9 +97,11 @@ class Part;
 class PartContext {
 public:
     using SignalOf = std::function<const LogicSignal&(const std::string& key)>;
+    using PartOf = std::function<const Part&(const std::string& name)>;
     PartContext(AvrCore& core, const PartEntry& entry, SignalOf signal_of, std::function<plant::Pose()> pose,
-                const plant::World& world)
-        : core_(core), entry_(entry), signal_of_(std::move(signal_of)), pose_(std::move(pose)), world_(world) {}
+                const plant::World& world, PartOf part_of = {})
+        : core_(core), entry_(entry), signal_of_(std::move(signal_of)), pose_(std::move(pose)), world_(world),
+          part_of_(std::move(part_of)) {}
 
     [[nodiscard]] AvrCore& core() const { return core_; }
     [[nodiscard]] const std::string& name() const { return entry_.name; }
@@ -110,6 +125,9 @@ public:
     /// The world around the robot (docs/world.md; empty: the plain floor).
     /// It outlives the part.
     [[nodiscard]] const plant::World& world() const { return world_; }
+    /// The part carrier key `key` names (built before this one), or nullptr
+    /// when the entry leaves the key out. It outlives the part.
+    [[nodiscard]] const Part* carrier(const std::string& key) const;
 
 private:
     AvrCore& core_;
@@ -117,6 +135,7 @@ private:
     SignalOf signal_of_;
     std::function<plant::Pose()> pose_;
     const plant::World& world_;
+    PartOf part_of_;
 };
 
 class Part {
@@ -134,6 +153,10 @@ public:
     /// world updates its outputs here (a PinDriver edge scheduled at
     /// `pose_cycle` lands exactly when the pose is true). Must not throw.
     virtual void on_plant_step(Cycles /*pose_cycle*/) {}
+    /// A carrier (its type's `carries_parts`): where a part sitting on it is
+    /// at `cycle`, in the robot's frame (a servo: its horn's axis, turned by
+    /// the horn's angle then). Others: nullopt.
+    [[nodiscard]] virtual std::optional<SensorMount> carried_mount(Cycles /*cycle*/) const { return std::nullopt; }
 };
 
 /// A board-file key of an entry its type cannot use on this board, and why.
@@ -158,6 +181,8 @@ struct PartType {
     /// analog output on a pin without an ADC input, an I2C device off the
     /// TWI pins); none: every pin the keys accept will do.
     std::function<std::optional<PartKeyProblem>(const PartEntry&, const BoardDescription&)> check;
+    /// Other parts may sit on it (a carrier key names it: a servo carries a sonar).
+    bool carries_parts = false;
     std::optional<MotorDriverSpec> motor_driver;  ///< set: a motor driver type
     std::optional<EncoderSpec> encoder;           ///< set: an encoder type
 

@@ -36,6 +36,9 @@ PartEntry::Value read_value(const YamlReader& r, const YAML::Node& v, const std:
         case PartKeyKind::output_pin:
             out.pin = pin(v, key);
             return out;
+        case PartKeyKind::carrier:
+            if (!is_name(out.text)) r.fail(v, key, fmt::format("'{}' is not a part's name", out.text));
+            return out;
         case PartKeyKind::option:
             if (!spec.choices.empty()) {
                 if (std::find(spec.choices.begin(), spec.choices.end(), out.text) == spec.choices.end()) {

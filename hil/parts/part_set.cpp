@@ -47,6 +47,24 @@ private:
     throw std::invalid_argument(fmt::format("{}: key '{}': {}", file_line(source, line), key, what));
 }
 
+/// The index of the part entry `e`'s carrier key `key` names; refuses a
+/// name no part has and a part that carries nothing.
+std::size_t carrier_index(const std::vector<PartEntry>& entries, const std::map<std::string, std::size_t>& index,
+                          const PartRegistry& registry, const std::string& source, const PartEntry& e,
+                          const std::string& key) {
+    const PartEntry::Value& v = e.values.at(key);
+    const std::string where = fmt::format("parts.{}.{}", e.name, key);
+    const auto it = index.find(v.text);
+    if (it == index.end()) refuse(source, v.line, where, fmt::format("no part is called '{}'", v.text));
+    const PartType* type = registry.find(entries[it->second].type);
+    if (type == nullptr || !type->carries_parts) {
+        refuse(source, v.line, where,
+               fmt::format("part '{}' ({}) carries nothing: a sensor sits on a servo", v.text,
+                           entries[it->second].type));
+    }
+    return it->second;
+}
+
 }  // namespace
 
 std::optional<PartOutputRef> parse_part_output_ref(const std::string& text) {
@@ -65,6 +83,10 @@ std::vector<std::size_t> part_order(const std::vector<PartEntry>& entries, const
         const PartType* type = registry.find(entries[i].type);
         for (const auto& [key, value] : entries[i].values) {
             const PartKey* k = type != nullptr ? type->key(key) : nullptr;
+            if (k != nullptr && k->kind == PartKeyKind::carrier && !value.text.empty()) {
+                reads[i].push_back(carrier_index(entries, index, registry, source, entries[i], key));
+                continue;
+            }
             if (k == nullptr || k->kind != PartKeyKind::input) continue;
             const auto ref = parse_part_output_ref(value.text);
             if (!ref) continue;
@@ -116,7 +138,8 @@ PartSet::PartSet(AvrCore& core, const std::vector<PartEntry>& entries, const Par
         }
         const PartContext ctx(
             core_, entry, [this, &entry](const std::string& key) -> const LogicSignal& { return input_signal(entry, key); },
-            pose, world != nullptr ? *world : kPlainFloor);
+            pose, world != nullptr ? *world : kPlainFloor,
+            [this](const std::string& name) -> const Part& { return *find(name); });
         parts_.push_back(Built{entry.name, type, type->create(ctx)});
     }
 }

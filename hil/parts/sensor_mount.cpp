@@ -1,5 +1,7 @@
 #include "hil/parts/sensor_mount.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "plant/units.hpp"
@@ -17,9 +19,28 @@ std::vector<PartKey> mount_keys(const std::string& what, bool directional, doubl
         keys.push_back(PartKey::number("heading_deg",
                                        what + " axis, counter-clockwise from straight ahead [deg] (90: to the left)", 0,
                                        -180, 180));
+        keys.push_back(PartKey::carrier(
+            "mount", "a servo part it sits on: it then turns with the horn, at the servo's x_mm, y_mm and heading_deg "
+                     "(its own left out); left out: fixed on the chassis"));
     }
     return keys;
 }
+
+std::optional<PartKeyProblem> check_mount(const PartEntry& e) {
+    const auto mount = e.values.find("mount");
+    if (mount == e.values.end() || mount->second.text.empty()) return std::nullopt;
+    for (const char* key : {"x_mm", "y_mm", "heading_deg"}) {
+        const auto it = e.values.find(key);
+        if (it != e.values.end() && it->second.line != 0) {
+            return PartKeyProblem{key, fmt::format("not with mount: {}: the servo's horn sets where the sensor is "
+                                                   "(set the servo's x_mm, y_mm, heading_deg)",
+                                                   mount->second.text)};
+        }
+    }
+    return std::nullopt;
+}
+
+SensorPlacement::SensorPlacement(const PartContext& ctx) : fixed_(mount_of(ctx, true)), carrier_(ctx.carrier("mount")) {}
 
 SensorMount mount_of(const PartContext& ctx, bool directional) {
     SensorMount m;

@@ -11,7 +11,8 @@
 //   - at power-on it stands at `start_deg`.
 // Its angle is a truth column; 90 degrees points along the mount's
 // heading_deg (0 degrees is to its right, 180 to its left, as a servo seen
-// from above with its horn up).
+// from above with its horn up). A sensor may sit on the horn (its `mount:
+// NAME` key): it turns with the horn, carried_mount().
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +21,7 @@
 #include "hil/cycle_time.hpp"
 #include "hil/parts/builtin_parts.hpp"
 #include "hil/parts/sensor_mount.hpp"
+#include "plant/units.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -29,7 +31,7 @@ public:
     explicit Servo(const PartContext& ctx)
         : core_(ctx.core()), min_us_(ctx.number("min_us")), max_us_(ctx.number("max_us")),
           slew_deg_s_(ctx.number("slew_deg_s")), dead_band_us_(ctx.number("dead_band_us")),
-          from_deg_(ctx.number("start_deg")), target_deg_(from_deg_), none_(ctx.name()) {
+          from_deg_(ctx.number("start_deg")), target_deg_(from_deg_), axis_(mount_of(ctx, true)), none_(ctx.name()) {
         ctx.input("SIGNAL").add_listener([this](bool level, Cycles cycle) { on_signal(level, cycle); });
     }
 
@@ -38,6 +40,14 @@ public:
     void truth_values(std::vector<double>& out) const override {
         out.push_back(angle_deg(core_.cycle()));
         out.push_back(last_pulse_us_);
+    }
+
+    /// A part on the horn: at the horn's axis, pointing along heading_deg
+    /// turned by (angle - 90) degrees (90 degrees: straight along heading_deg).
+    std::optional<SensorMount> carried_mount(Cycles cycle) const override {
+        SensorMount m = axis_;
+        m.heading_rad += (angle_deg(cycle) - 90.0) * plant::kPi / 180.0;
+        return m;
     }
 
 private:
@@ -68,6 +78,7 @@ private:
     double target_deg_;
     Cycles rise_ = 0;
     double last_pulse_us_ = 0.0;
+    SensorMount axis_;
     DrivenSignal none_;
 };
 
@@ -86,13 +97,16 @@ PartType servo_type() {
     t.summary = "hobby servo (SG90 class): its angle follows the signal's pulse width at the servo's slew rate";
     t.datasheet = "TowerPro SG90 (0.1 s/60 deg, dead band 10 us); Arduino Servo library (544-2400 us for 0-180 deg)";
     t.keys = {PartKey::input("SIGNAL", "the control signal: a HIGH pulse every 20 ms, its width the angle")};
-    for (PartKey& k : mount_keys("the horn's axis", true, 60)) t.keys.push_back(std::move(k));
+    for (PartKey& k : mount_keys("the horn's axis", true, 60)) {
+        if (k.kind != PartKeyKind::carrier) t.keys.push_back(std::move(k));  // a servo sits on the chassis
+    }
     t.keys.push_back(PartKey::number("min_us", "the pulse width for 0 degrees [us]", 544, 100, 5000));
     t.keys.push_back(PartKey::number("max_us", "the pulse width for 180 degrees [us]", 2400, 100, 5000));
     t.keys.push_back(PartKey::number("slew_deg_s", "how fast the horn turns [deg/s]", 600, 1, 100000));
     t.keys.push_back(PartKey::number("dead_band_us", "a change of pulse width smaller than this is ignored [us]", 10, 0,
                                      100));
     t.keys.push_back(PartKey::number("start_deg", "the horn's angle at power-on [deg]", 90, 0, 180));
+    t.carries_parts = true;
     t.create = [](const PartContext& ctx) { return std::make_unique<Servo>(ctx); };
     t.check = check;
     return t;

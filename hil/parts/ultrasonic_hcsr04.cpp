@@ -30,7 +30,7 @@ constexpr double kMinTriggerS = 10e-6;  // [SR04] p. 1: "at least 10 us high lev
 class UltrasonicHcsr04 final : public Part {
 public:
     explicit UltrasonicHcsr04(const PartContext& ctx)
-        : core_(ctx.core()), pose_(ctx.pose_source()), world_(ctx.world()), mount_(mount_of(ctx, true)),
+        : core_(ctx.core()), pose_(ctx.pose_source()), world_(ctx.world()), placement_(ctx),
           echo_pin_(ctx.output_pin("ECHO")), params_(params_of(ctx)), driver_(ctx.core()), none_(ctx.name()) {
         driver_.drive_now(echo_pin_, false);
         ctx.input("TRIG").add_listener([this](bool level, Cycles cycle) { on_trig(level, cycle); });
@@ -66,8 +66,9 @@ private:
         }
         if (cycle < busy_until_ || cycles_to_s(cycle - trig_rise_, core_.clock_hz()) < kMinTriggerS) return;
         const plant::Pose pose = pose_();
+        const SensorMount mount = placement_.at(cycle);
         const std::optional<double> d =
-            plant::sonar_distance_m(world_, params_, world_point(pose, mount_), world_heading_rad(pose, mount_));
+            plant::sonar_distance_m(world_, params_, world_point(pose, mount), world_heading_rad(pose, mount));
         const double width_s = plant::echo_width_s(params_, d);
         const Cycles rise = cycle + s_to_cycles(params_.burst_s, core_.clock_hz());
         const Cycles fall = rise + s_to_cycles(width_s, core_.clock_hz());
@@ -82,7 +83,7 @@ private:
     AvrCore& core_;
     std::function<plant::Pose()> pose_;
     const plant::World& world_;
-    SensorMount mount_;
+    SensorPlacement placement_;
     int echo_pin_;
     plant::SonarParams params_;
     PinDriver driver_;
@@ -98,7 +99,7 @@ std::optional<PartKeyProblem> check(const PartEntry& e, const BoardDescription& 
     if (std::stod(e.values.at("min_range_m").text) >= std::stod(e.values.at("max_range_m").text)) {
         return PartKeyProblem{"max_range_m", "must be more than min_range_m"};
     }
-    return std::nullopt;
+    return check_mount(e);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // the reference firmware writes.
 #include "hil/motor_driver_reader.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <sim_avr.h>
@@ -162,6 +163,55 @@ TEST(MotorDriverReader, TruthTablesFromPinLevels) {
     const auto warnings = reader.wiring_warnings();
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_EQ(warnings[0], "pin 8 (right L298N IN2) is never set as an output: the driver sees only the pull-up (high)");
+}
+
+/// The firmware at rest (case 1 not started: both enables digitalWrite LOW,
+/// Timer1 in the core's phase-correct mode at /64), then Timer1's registers
+/// poked as a sketch would write them.
+struct TakeoverRig {
+    Rig r;
+    TakeoverRig() { r.core.run_until(hil::s_to_cycles(0.5, kUnoClockHz)); }
+    /// TCCR1A = COM1B1 | wgm10 (analogWrite(10) sets COM1B1), TCCR1B keeps /64.
+    void timer1(bool phase_correct) {
+        poke(r.core, hil::atmega328p::reg::kTccr1A, static_cast<uint8_t>(0x20 | (phase_correct ? 0x01 : 0x00)));
+    }
+    void run_ms(double ms) { r.core.run_until(r.core.cycle() + hil::ms_to_cycles(ms, kUnoClockHz)); }
+    [[nodiscard]] std::vector<std::string> takeovers() const {
+        std::vector<std::string> out;
+        for (const std::string& w : r.reader.wiring_warnings()) {
+            if (w.find("Timer") != std::string::npos) out.push_back(w);
+        }
+        return out;
+    }
+};
+
+TEST(MotorDriverReader, AnalogWriteOnATimerTakenIntoNormalModeIsWarnedAbout) {
+    // The Servo library's TCCR1A = 0 leaves Timer1 in normal mode; a later
+    // analogWrite(10, x) sets COM1B1 there: "clear OC1B on compare match",
+    // no PWM. Held for 2 ms (> the 1 ms a register-by-register set-up may take).
+    TakeoverRig t;
+    t.timer1(false);
+    const double from_s = t.r.core.seconds();
+    t.run_ms(2.0);
+    const auto w = t.takeovers();
+    ASSERT_EQ(w.size(), 1u);
+    EXPECT_NE(w[0].find("pin 10 ("), std::string::npos) << w[0];
+    EXPECT_NE(w[0].find("is OC1B of Timer1, which the firmware ran in normal mode (WGM 0) from " +
+                        fmt::format("{:.4f}", from_s) + " s: analogWrite(10) makes no PWM there"),
+              std::string::npos)
+        << w[0];
+}
+
+TEST(MotorDriverReader, APwmModeOrABriefSetUpStateIsNoTakeover) {
+    TakeoverRig t;
+    t.timer1(true);  // analogWrite in the core's phase-correct mode: PWM
+    t.run_ms(2.0);
+    EXPECT_TRUE(t.takeovers().empty());
+    t.timer1(false);  // normal mode for 0.5 ms, as while a sketch sets its own PWM mode up
+    t.run_ms(0.5);
+    t.timer1(true);
+    t.run_ms(2.0);
+    EXPECT_TRUE(t.takeovers().empty());
 }
 
 }  // namespace

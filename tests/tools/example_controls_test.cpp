@@ -52,7 +52,10 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         // The two line sensors' pins swapped: the sketch steers away from the line.
         Control{"line_follower_digital/scenario_swapped.yaml", "line_follower_digital_swapped", "expect-stats",
-                "expected rms <= 0.003; row_middle.line_offset_m over 3000 samples"}),
+                "expected rms <= 0.003; row_middle.line_offset_m over 3000 samples"},
+        // The sonar's TRIG and ECHO swapped: no echo ever, the car drives into the wall.
+        Control{"obstacle_avoider_servo/scenario_swapped.yaml", "obstacle_avoider_servo_swapped", "wait-serial",
+                "expected 'stop ' within 4.000 s"}),
     control_name);
 
 }  // namespace

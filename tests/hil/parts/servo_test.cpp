@@ -16,8 +16,9 @@ struct ServoRig {
     TempDir dir;
     FixtureCore fx{"servo_fixture"};
     hil::PartSet parts;
-    explicit ServoRig(const std::string& entry)
-        : parts(fx.core, uno_with_parts(dir, entry).parts, hil::PartRegistry::global(), [] { return plant::Pose{}; }) {}
+    explicit ServoRig(const std::string& entry, const plant::World* world = nullptr)
+        : parts(fx.core, uno_with_parts(dir, entry).parts, hil::PartRegistry::global(), [] { return plant::Pose{}; },
+                world) {}
     /// Pulses of `us` microseconds (0.5 us ticks) from now.
     void send_us(double us) {
         fx.core.run_until(std::max<hil::Cycles>(fx.core.cycle(), FixtureCore::kPastStartup));
@@ -75,6 +76,53 @@ TEST(Servo, IgnoresChangesInsideItsDeadBandAndHoldsWhenThePulsesStop) {
     rig.send_us(0);  // no more pulses
     rig.run_ms(100);
     EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.angle_deg"), held);
+}
+
+/// A wall along y = 0.10 m, 0.1 m to the robot's left: an FC-51 module set to
+/// 15 cm sees it only when it looks left.
+plant::World wall_on_the_left() {
+    plant::World w;
+    w.walls.push_back(plant::Wall{{-1.0, 0.10}, {1.0, 0.10}, 0.2});
+    return w;
+}
+
+TEST(Servo, ASensorOnTheHornTurnsWithIt) {
+    // The IR module sits on the horn at (60 mm, 0). At 90 degrees it looks
+    // ahead: its 35-degree cone reaches y = 0.15 sin 17.5 = 0.045 m < 0.10
+    // within its 15 cm: nothing. At 180 degrees (2400 us) it looks left: the
+    // wall is 0.10 m away. At 0 degrees (544 us) it looks right: nothing.
+    const plant::World world = wall_on_the_left();
+    ServoRig rig(kServo + "  - {name: ir, type: ir-obstacle, OUT: 7, range_cm: 15, mount: pan}\n", &world);
+    const auto detected_after = [&rig](double us) {
+        rig.send_us(us);
+        rig.run_ms(400);  // 180 degrees at 600 deg/s: 0.3 s, plus the 20 ms frame
+        rig.parts.on_plant_step(rig.fx.core.cycle());
+        return truth_value(rig.parts, "ir.detected");
+    };
+    rig.parts.on_plant_step(rig.fx.core.cycle());
+    EXPECT_EQ(truth_value(rig.parts, "ir.detected"), 0.0);
+    EXPECT_EQ(detected_after(2400), 1.0);
+    EXPECT_EQ(detected_after(544), 0.0);
+    EXPECT_EQ(detected_after(2400), 1.0);
+}
+
+TEST(Servo, APartOnTheHornIsCheckedWhenTheBoardFileIsRead) {
+    const std::string head = "board: uno\nparts:\n  - {name: pan, type: servo, SIGNAL: 9}\n";
+    const std::string wheels =
+        "wheels:\n"
+        "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
+        "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n";
+    EXPECT_EQ(board_load_error(head + "  - {name: ir, type: ir-obstacle, OUT: 7, mount: pan}\n" + wheels), "");
+    EXPECT_NE(board_load_error(head + "  - {name: ir, type: ir-obstacle, OUT: 7, mount: tilt}\n" + wheels)
+                  .find("b.yaml:4: key 'parts.ir.mount': no part is called 'tilt'"),
+              std::string::npos);
+    EXPECT_NE(board_load_error(head + "  - {name: ir, type: ir-obstacle, OUT: 7}\n"
+                                      "  - {name: ir2, type: ir-obstacle, OUT: 8, mount: ir}\n" + wheels)
+                  .find("b.yaml:5: key 'parts.ir2.mount': part 'ir' (ir-obstacle) carries nothing"),
+              std::string::npos);
+    EXPECT_NE(board_load_error(head + "  - {name: sonar, type: ultrasonic, TRIG: 7, ECHO: 8, x_mm: 50, mount: pan}\n" + wheels)
+                  .find("b.yaml:4: key 'parts.sonar.x_mm': not with mount: pan"),
+              std::string::npos);
 }
 
 }  // namespace
