@@ -102,6 +102,7 @@ inline constexpr uint16_t kTccr2A = 0xB0;
 inline constexpr uint16_t kTccr2B = 0xB1;
 inline constexpr uint16_t kOcr2A = 0xB3;
 inline constexpr uint16_t kOcr2B = 0xB4;
+inline constexpr uint16_t kTwbr = 0xB8;    ///< section 22.9.1 (same address on the ATmega2560)
 inline constexpr uint16_t kTwsr = 0xB9;    ///< section 22.9.3 (same address on the ATmega2560)
 inline constexpr uint16_t kTwcr = 0xBC;    ///< section 22.9.2 (same address on the ATmega2560)
 inline constexpr uint16_t kUcsr0A = 0xC0;

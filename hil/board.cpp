@@ -27,7 +27,7 @@ std::vector<const PartType*> driver_types() {
     return out;
 }
 
-/// "dir-pwm, l298n, tb6612, drv8833 or l293d".
+/// "dir-pwm, l298n, tb6612, drv8833, l293d or l9110".
 std::string driver_key_list() {
     std::string out;
     const auto types = driver_types();

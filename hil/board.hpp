@@ -78,7 +78,7 @@ struct BoardWiring {
 
 /// "right" (index 0) or "left" (1).
 const char* wheel_name(std::size_t m);
-/// "dir-pwm", "l298n", "tb6612", "drv8833", "l293d".
+/// "dir-pwm", "l298n", "tb6612", "drv8833", "l293d", "l9110".
 const char* driver_key(plant::DriverType t);
 /// The module as a user calls it: "L298 shield", "L298N", "TB6612", "DRV8833", "L293D".
 const char* driver_label(plant::DriverType t);

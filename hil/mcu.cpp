@@ -71,6 +71,7 @@ void set_megaavr_core_registers(McuDescription& d) {
     d.pud_bit = atmega328p::kPud;
     d.twsr = reg::kTwsr;
     d.twcr = reg::kTwcr;
+    d.twbr = reg::kTwbr;
     d.eecr = reg::kEecr;
     d.eedr = reg::kEedr;
     d.eearl = reg::kEearL;

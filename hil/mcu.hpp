@@ -90,6 +90,8 @@ struct McuDescription {
     uint16_t mcucr = 0;  ///< MCUCR: PUD (bit pud_bit) disables all pull-ups
     uint16_t twsr = 0;   ///< TWSR: the TWI status (bits 7:3) and prescaler (1:0)
     uint16_t twcr = 0;   ///< TWCR: TWINT = bit 7
+    uint16_t twbr = 0;   ///< TWBR: the bit rate register
+    PortBit twi_sda{}, twi_scl{};  ///< the TWI's pins
     int pud_bit = 0;
     uint16_t eecr = 0, eedr = 0, eearl = 0, eearh = 0;
 

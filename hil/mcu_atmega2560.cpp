@@ -68,6 +68,8 @@ McuDescription make_atmega2560() {
     d.pc_bytes = 3;
     d.reti_cycles = 5;
     set_megaavr_core_registers(d);
+    d.twi_sda = {'D', 1};  // PD1 (SDA/INT1), PD0 (SCL/INT0): ATmega2560 datasheet section 13.3.4
+    d.twi_scl = {'D', 0};
     d.ports = {port('A', 0x20), port('B', 0x23),  port('C', 0x26),  port('D', 0x29),
                port('E', 0x2C), port('F', 0x2F),  port('G', 0x32),  port('H', 0x100),
                port('J', 0x103), port('K', 0x106), port('L', 0x109)};

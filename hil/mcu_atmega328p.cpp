@@ -24,6 +24,8 @@ McuDescription make_atmega328p() {
     d.vector_names.assign(chip::vector::kNames.begin(), chip::vector::kNames.end());
     d.reti_cycles = chip::kRetiCycles;
     set_megaavr_core_registers(d);
+    d.twi_sda = {'C', 4};  // PC4 (SDA), PC5 (SCL): datasheet section 1.1.3
+    d.twi_scl = {'C', 5};
     d.ports = {{'B', reg::kPinB, reg::kDdrB, reg::kPortB},
                {'C', reg::kPinC, reg::kDdrC, reg::kPortC},
                {'D', reg::kPinD, reg::kDdrD, reg::kPortD}};

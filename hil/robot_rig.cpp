@@ -83,4 +83,10 @@ void RobotRig::extra_truth_values(std::vector<double>& out) const {
     parts_.truth_values(out);
 }
 
+std::vector<std::string> RobotRig::warnings() const {
+    std::vector<std::string> out = driver_.wiring_warnings();
+    for (std::string& w : parts_.warnings()) out.push_back(std::move(w));
+    return out;
+}
+
 }  // namespace ddmr::hil

@@ -66,6 +66,8 @@ public:
     EepromPort& eeprom() { return eeprom_; }
     EepromWriteTiming& eeprom_timing() { return eeprom_timing_; }
     MotorDriverReader& driver() { return driver_; }
+    /// The run's warnings so far: the wiring's (MotorDriverReader::wiring_warnings), then the parts'.
+    [[nodiscard]] std::vector<std::string> warnings() const;
     /// The board's `parts:` (hil/parts/part_set.hpp).
     const PartSet& parts() const { return parts_; }
     /// truth.csv's columns after the plant's: the world's (world_truth.hpp),

@@ -25,13 +25,42 @@ constexpr unsigned kPrescalerBits = 0x07;
 /// TWCR bit 7, TWINT (section 22.9.2).
 constexpr uint8_t kTwint = 0x80;
 
+/// One byte and its ACK on the bus: 9 SCL periods of 16 + 2 TWBR 4^TWPS CPU
+/// cycles each (section 22.5.2: SCL = F_CPU / (16 + 2 TWBR 4^TWPS)).
+avr_cycle_count_t byte_cycles(const avr_t* avr, const McuDescription& mcu) {
+    const unsigned twps = avr->data[mcu.twsr] & kPrescalerBits & 0x03U;
+    const avr_cycle_count_t twbr = avr->data[mcu.twbr];
+    const avr_cycle_count_t period = 16U + 2U * twbr * (avr_cycle_count_t{1} << (2U * twps));
+    return 9U * period;
+}
+
+/// simavr 1.6 completes a byte 9 us after the TWCR write that starts it,
+/// whatever TWBR says ("cheats and uses one twi cycle == one usec",
+/// avr_twi.c): 144 cycles at 16 MHz where a 100 kHz bus takes 1440. Right
+/// after simavr's handler has registered that completion (a cycle timer
+/// whose parameter is the TWI module, due later than now; a START's is due
+/// now and is left alone), it is registered again at the byte's bus time.
+void stretch_byte_to_bus_time(avr_t* avr, const McuDescription& mcu) {
+    const avr_io_t* twi = nullptr;
+    for (const avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
+        if (io->kind != nullptr && std::strcmp(io->kind, "twi") == 0) twi = io;
+    }
+    if (twi == nullptr) return;
+    for (const avr_cycle_timer_slot_t* t = avr->cycle_timers.timer; t != nullptr; t = t->next) {
+        if (t->param != twi || t->when <= avr->cycle) continue;
+        avr_cycle_timer_register(avr, byte_cycles(avr, mcu), t->timer, t->param);  // replaces it
+        return;
+    }
+}
+
 /// After simavr's own TWCR write handler: a 1 written to TWINT clears it
 /// (section 22.9.2: "TWINT is cleared by writing a logic one to it").
 /// simavr 1.6 declares the TWI vector's flag "sticky" and leaves TWINT set,
 /// so a master that polls TWINT runs on before its byte is sent. Stateless
 /// (simavr 1.6 cannot unregister a write handler): installed once per core.
-void clear_twint_on_write(avr_t* avr, avr_io_addr_t addr, uint8_t value, void* /*param*/) {
+void clear_twint_on_write(avr_t* avr, avr_io_addr_t addr, uint8_t value, void* param) {
     if ((value & kTwint) != 0) avr->data[addr] = static_cast<uint8_t>(avr->data[addr] & ~kTwint);
+    stretch_byte_to_bus_time(avr, *static_cast<const McuDescription*>(param));
 }
 
 /// Whether clear_twint_on_write already watches `twcr`: simavr shares a
@@ -65,7 +94,8 @@ TwiSlave::TwiSlave(AvrCore& core, int address) : core_(core), address_(address) 
     avr_irq_register_notify(from_chip_, &TwiSlave::on_message, this);
     avr_irq_register_notify(status_, &TwiSlave::on_status, this);
     if (!twint_hook_installed(core_.raw(), core_.mcu().twcr)) {
-        avr_register_io_write(core_.raw(), core_.mcu().twcr, &clear_twint_on_write, nullptr);
+        avr_register_io_write(core_.raw(), core_.mcu().twcr, &clear_twint_on_write,
+                              const_cast<McuDescription*>(&core_.mcu()));  // static: outlives the core
     }
 }
 
@@ -96,7 +126,10 @@ void TwiSlave::reply(uint8_t msg, uint8_t data) {
 }
 
 void TwiSlave::handle(uint8_t msg, uint8_t addr, uint8_t data) {
-    if ((msg & TWI_COND_STOP) != 0) selected_ = false;  // the pointer stays
+    if ((msg & TWI_COND_STOP) != 0 && selected_) {
+        selected_ = false;  // the pointer stays
+        if (on_idle_) on_idle_();
+    }
     if ((msg & TWI_COND_START) != 0) {
         sla_w_sent_ = (addr & 1U) == 0;
         // addr is SLA+R/W: the 7-bit address, then R (1) or W (0).
@@ -123,7 +156,9 @@ void TwiSlave::handle(uint8_t msg, uint8_t addr, uint8_t data) {
     }
     if ((msg & TWI_COND_READ) != 0) {
         ++stats_.bytes_read;
-        reply(TWI_COND_READ, regs_[pointer_++]);
+        const uint8_t index = pointer_++;
+        reply(TWI_COND_READ, regs_[index]);
+        if (on_read_) on_read_(index);
     }
 }
 

@@ -58,6 +58,10 @@ class TwiSlave {
 public:
     /// (register, value): the master wrote `value` into `register`.
     using WriteListener = std::function<void(uint8_t, uint8_t)>;
+    /// (register): the master read `register`.
+    using ReadListener = std::function<void(uint8_t)>;
+    /// The master ended a transaction with this device (STOP).
+    using IdleListener = std::function<void()>;
 
     /// A device at 7-bit `address` (0x08..0x77: 0x00-0x07 and 0x78-0x7F are
     /// reserved, section 22.3.3); registers all 0. Throws
@@ -75,6 +79,15 @@ public:
     /// Called after each register the master writes (not the pointer byte),
     /// so a part can act on it (a reset bit). Must not throw.
     void set_write_listener(WriteListener listener) { on_write_ = std::move(listener); }
+    /// Called after each register the master reads (a status that clears
+    /// when read). Must not throw.
+    void set_read_listener(ReadListener listener) { on_read_ = std::move(listener); }
+    /// Called at the STOP that ends a transaction with this device: a
+    /// sensor's pending sample may be published then. Must not throw.
+    void set_idle_listener(IdleListener listener) { on_idle_ = std::move(listener); }
+    /// Addressed since the last START and no STOP yet: a sensor updates its
+    /// registers only while this is false (one burst, one sample).
+    [[nodiscard]] bool in_transaction() const { return selected_; }
     [[nodiscard]] const TwiSlaveStats& stats() const { return stats_; }
 
 private:
@@ -94,6 +107,8 @@ private:
     bool selected_ = false;       ///< addressed since the last START
     bool pointer_next_ = false;   ///< the next byte written sets the pointer
     WriteListener on_write_;
+    ReadListener on_read_;
+    IdleListener on_idle_;
     TwiSlaveStats stats_;
 };
 

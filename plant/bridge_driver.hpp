@@ -80,12 +80,20 @@ void validate(const BridgeParams& p, const char* prefix);
 ///                         (bipolar switches conduct one way). Diode 1.3 V:
 ///                         the built-in clamps, VOKH = VCC2 + 1.3 V and VOKL
 ///                         = 1.3 V typ at IOK = -+0.6 A.
+///   L9110 (bipolar; no IC datasheet found, SENSORS.md 7): drop 1.4 V, the
+///                         modules' test table quoted for the IC (outputs
+///                         7.5-7.7 V from 9 V at 750 mA: 1.3-1.5 V total; an
+///                         estimate at these motors' lower currents, as the
+///                         L298's); no resistance; both inputs equal short the
+///                         winding (0 ohm); diode 0.8 V (built-in clamps, VF
+///                         not given: our estimate).
 constexpr BridgeParams default_bridge_params(DriverChip chip) {
     switch (chip) {
         case DriverChip::l298: return {1.4, 0.0, 0.0, 0.8};
         case DriverChip::tb6612: return {0.0, 0.5, 0.5, 1.0};
         case DriverChip::drv8833: return {0.0, 0.36, 0.32, 0.8};
         case DriverChip::l293d: return {2.6, 0.0, 0.0, 1.3};
+        case DriverChip::l9110: return {1.4, 0.0, 0.0, 0.8};
     }
     return {};
 }
@@ -98,6 +106,7 @@ constexpr const char* params_section(DriverChip chip) {
         case DriverChip::tb6612: return "tb6612";
         case DriverChip::drv8833: return "drv8833";
         case DriverChip::l293d: return "l293d";
+        case DriverChip::l9110: return "l9110";
     }
     return "driver";
 }

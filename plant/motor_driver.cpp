@@ -68,6 +68,21 @@ BridgeState drv8833(bool sleep, bool in1, bool in2) {
     return in2 ? BridgeState::reverse : BridgeState::coast;
 }
 
+// L9110 / L9110S (HG7881 modules): no readable datasheet of the IC was found;
+// the modules' vendors give (../shared/SENSORS.md section 7: Banana Robotics,
+// SunFounder):
+//   IA H, IB L   OA H, OB L: forward   -> forward
+//   IA L, IB H   OA L, OB H: reverse   -> reverse
+//   IA L, IB L   OA L, OB L: off       -> brake
+//   IA H, IB H   OA H, OB H: off       -> brake
+// Both "off" rows drive the two outputs to one rail: the winding is shorted
+// (brake, slow decay), not left open (derived from the output levels; whether
+// the IC brakes or coasts there is unverified).
+BridgeState l9110(bool in1, bool in2) {
+    if (in1 == in2) return BridgeState::brake;
+    return in1 ? BridgeState::forward : BridgeState::reverse;
+}
+
 /// One input of a driver type: where its level and its duty live.
 struct Input {
     bool DriverInputLevels::*level;
@@ -96,6 +111,7 @@ InputSet inputs_of(DriverType t) {
         case DriverType::l293d: return {{en, in1, in2}, 3};
         case DriverType::tb6612: return {{pwm, in1, in2, stby}, 4};
         case DriverType::drv8833: return {{in1, in2, sleep}, 3};
+        case DriverType::l9110: return {{in1, in2}, 2};
     }
     return {{}, 0};
 }
@@ -109,6 +125,7 @@ BridgeState bridge_state(DriverType type, const DriverInputLevels& in) {
         case DriverType::l293d: return enable_in1_in2(in.en, in.in1, in.in2);
         case DriverType::tb6612: return tb6612(in.stby, in.in1, in.in2, in.pwm);
         case DriverType::drv8833: return drv8833(in.sleep, in.in1, in.in2);
+        case DriverType::l9110: return l9110(in.in1, in.in2);
     }
     return BridgeState::coast;
 }

@@ -13,6 +13,7 @@
 //   drv8833  DRV8833   IN1, IN2, nSLEEP         TI SLVSAR1E, §7.3.2 Table 1
 //   l293d    L293D     EN, IN1 (1A), IN2 (2A)   TI SLRS008, Figure 5 (the l298n
 //                                               table: one function serves both)
+//   l9110    L9110     IN1 (IA), IN2 (IB)       module vendors' table (SENSORS.md 7)
 //
 // (DriverType, input levels)  => BridgeState     (bridge_state)
 // (DriverType, input duties)  => BridgeAverage   (average_bridge)
@@ -24,12 +25,12 @@
 namespace ddmr::plant {
 
 /// How the firmware's pins drive one bridge (a board-file choice).
-enum class DriverType : std::uint8_t { dir_pwm, l298n, tb6612, drv8833, l293d };
+enum class DriverType : std::uint8_t { dir_pwm, l298n, tb6612, drv8833, l293d, l9110 };
 
 /// The silicon behind a driver type: it selects the electrical parameters
 /// (bridge_driver.hpp). dir_pwm and l298n are both L298 chips. l293d is the
 /// L293D (built-in clamp diodes), not the L293, whose diodes are external.
-enum class DriverChip : std::uint8_t { l298, tb6612, drv8833, l293d };
+enum class DriverChip : std::uint8_t { l298, tb6612, drv8833, l293d, l9110 };
 
 constexpr DriverChip chip_of(DriverType t) {
     switch (t) {
@@ -38,6 +39,7 @@ constexpr DriverChip chip_of(DriverType t) {
         case DriverType::tb6612: return DriverChip::tb6612;
         case DriverType::drv8833: return DriverChip::drv8833;
         case DriverType::l293d: return DriverChip::l293d;
+        case DriverType::l9110: return DriverChip::l9110;
     }
     return DriverChip::l298;
 }

@@ -172,7 +172,7 @@ RobotParams parse_robot_params(std::string_view yaml_text, const std::string& so
         });
         if (!known) {
             throw ParamsFileError(where(source, kv.first.Mark()) + ": unknown key '" + section +
-                                  "' (sections: motor1, motor2, driver, tb6612, drv8833, l293d, "
+                                  "' (sections: motor1, motor2, driver, tb6612, drv8833, l293d, l9110, "
                                   "battery, encoder1, encoder2, kinematics, integration)");
         }
     }

@@ -1,6 +1,6 @@
 #pragma once
 // RobotParams <-> YAML (yaml-cpp). The file has one mapping per part
-// (motor1, motor2, driver (the L298), tb6612, drv8833, l293d, battery,
+// (motor1, motor2, driver (the L298), tb6612, drv8833, l293d, l9110, battery,
 // encoder1, encoder2, kinematics, integration), each with the keys of that part's field
 // table. Keys left out keep their embedded default, so a file may override a
 // few values only. An encoder's resolution is edges_per_motor_rev or

@@ -32,7 +32,7 @@ void validate(const RobotParams& p) {
     for_each_section(p, [](const char* name, const auto& part, const auto&) { validate(part, name); });
     for (std::size_t m = 0; m < p.chip.size(); ++m) {
         if (p.chip[m] != DriverChip::l298 && p.chip[m] != DriverChip::tb6612 &&
-            p.chip[m] != DriverChip::drv8833 && p.chip[m] != DriverChip::l293d) {
+            p.chip[m] != DriverChip::drv8833 && p.chip[m] != DriverChip::l293d && p.chip[m] != DriverChip::l9110) {
             throw std::invalid_argument("invalid plant parameter chip[" + std::to_string(m) +
                                         "] = " + std::to_string(static_cast<int>(p.chip[m])) +
                                         ": not a known driver chip");
@@ -58,7 +58,8 @@ bool operator==(const RobotParams& a, const RobotParams& b) {
            fields_equal(a.driver, b.driver, bridge_fields()) &&
            fields_equal(a.tb6612, b.tb6612, bridge_fields()) &&
            fields_equal(a.drv8833, b.drv8833, bridge_fields()) &&
-           fields_equal(a.l293d, b.l293d, bridge_fields()) && a.chip == b.chip &&
+           fields_equal(a.l293d, b.l293d, bridge_fields()) &&
+           fields_equal(a.l9110, b.l9110, bridge_fields()) && a.chip == b.chip &&
            fields_equal(a.battery, b.battery, battery_fields()) &&
            fields_equal(a.encoder[0], b.encoder[0], hall_encoder_fields()) &&
            fields_equal(a.encoder[1], b.encoder[1], hall_encoder_fields()) &&

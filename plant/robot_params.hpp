@@ -51,7 +51,8 @@ struct RobotParams {
     BridgeParams tb6612 = default_bridge_params(DriverChip::tb6612);    ///< YAML `tb6612:`
     BridgeParams drv8833 = default_bridge_params(DriverChip::drv8833);  ///< YAML `drv8833:`
     BridgeParams l293d = default_bridge_params(DriverChip::l293d);      ///< YAML `l293d:`
-    /// The chip driving each motor: selects one of the four above. Not a
+    BridgeParams l9110 = default_bridge_params(DriverChip::l9110);      ///< YAML `l9110:`
+    /// The chip driving each motor: selects one of the five above. Not a
     /// YAML key: the HIL sets it from the board file. Default: the thesis's L298 shield.
     std::array<DriverChip, 2> chip{DriverChip::l298, DriverChip::l298};
     BatteryParams battery{};
@@ -74,6 +75,7 @@ inline const BridgeParams& bridge_params(const RobotParams& p, std::size_t motor
         case DriverChip::tb6612: return p.tb6612;
         case DriverChip::drv8833: return p.drv8833;
         case DriverChip::l293d: return p.l293d;
+        case DriverChip::l9110: return p.l9110;
         case DriverChip::l298: break;
     }
     return p.driver;
@@ -93,6 +95,7 @@ void for_each_section(R& p, V&& v) {
     v("tb6612", p.tb6612, bridge_fields());
     v("drv8833", p.drv8833, bridge_fields());
     v("l293d", p.l293d, bridge_fields());
+    v("l9110", p.l9110, bridge_fields());
     v("battery", p.battery, battery_fields());
     v("encoder1", p.encoder[0], hall_encoder_fields());
     v("encoder2", p.encoder[1], hall_encoder_fields());

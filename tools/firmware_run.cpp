@@ -496,7 +496,7 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     const IsrOutputs isr = isr_outputs(session);
     const auto log = eeprom_log(session, plan, result);
     result.eeprom_log_samples = log.size();
-    const std::vector<std::string> wiring_warnings = session.rig().driver().wiring_warnings();
+    const std::vector<std::string> wiring_warnings = session.rig().warnings();
     for (const std::string& w : wiring_warnings) std::fprintf(stderr, "ddmr-hil: warning: %s\n", w.c_str());
     const json summary = summary_json(session, plan, options, result, watch, profile, profilers, isr, wiring_warnings);
     uart_txt.commit();

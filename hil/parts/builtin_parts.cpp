@@ -12,6 +12,7 @@ std::vector<PartType> builtin_part_types() {
         driver_tb6612_type(),
         driver_drv8833_type(),
         driver_l293d_type(),
+        driver_l9110_type(),
         encoder_single_type(),
         encoder_quadrature_type(),
         // Sensors (docs/world.md).
@@ -21,6 +22,7 @@ std::vector<PartType> builtin_part_types() {
         ir_obstacle_type(),
         bumper_type(),
         servo_type(),
+        imu_mpu6050_type(),
     };
 }
 

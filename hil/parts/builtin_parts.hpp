@@ -14,6 +14,8 @@ PartType driver_l298n_type();             // driver_l298n.cpp
 PartType driver_tb6612_type();            // driver_tb6612.cpp
 PartType driver_drv8833_type();           // driver_drv8833.cpp
 PartType driver_l293d_type();             // driver_l293d.cpp
+PartType imu_mpu6050_type();              // imu_mpu6050.cpp
+PartType driver_l9110_type();             // driver_l9110.cpp
 PartType encoder_single_type();           // encoder_single.cpp
 PartType encoder_quadrature_type();       // encoder_quadrature.cpp
 PartType bumper_type();                   // bumper.cpp

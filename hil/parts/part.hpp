@@ -157,6 +157,9 @@ public:
     /// at `cycle`, in the robot's frame (a servo: its horn's axis, turned by
     /// the horn's angle then). Others: nullopt.
     [[nodiscard]] virtual std::optional<SensorMount> carried_mount(Cycles /*cycle*/) const { return std::nullopt; }
+    /// What the part saw the firmware do that it does not model (an IMU's
+    /// DMP registers), one line each, for the run's warnings.
+    [[nodiscard]] virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 /// A board-file key of an entry its type cannot use on this board, and why.

@@ -201,6 +201,14 @@ std::vector<std::string> PartSet::truth_columns() const {
     return out;
 }
 
+std::vector<std::string> PartSet::warnings() const {
+    std::vector<std::string> out;
+    for (const Built& b : parts_) {
+        for (const std::string& w : b.part->warnings()) out.push_back(fmt::format("part '{}': {}", b.name, w));
+    }
+    return out;
+}
+
 void PartSet::truth_values(std::vector<double>& out) const {
     for (const Built& b : parts_) b.part->truth_values(out);
 }

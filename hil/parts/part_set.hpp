@@ -61,6 +61,8 @@ public:
     [[nodiscard]] std::vector<Output> outputs() const;
     /// truth.csv's part columns ("NAME.COLUMN") and their values now.
     [[nodiscard]] std::vector<std::string> truth_columns() const;
+    /// Each part's warnings, "part 'NAME': ..." (Part::warnings).
+    [[nodiscard]] std::vector<std::string> warnings() const;
     void truth_values(std::vector<double>& out) const;
     /// Part::on_plant_step() of every part, in build order (PlantCoupler
     /// calls it after each plant step).

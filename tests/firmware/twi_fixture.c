@@ -1,8 +1,8 @@
 /* An I2C master written from the ATmega328P datasheet (section 22.7 "Using
  * the TWI", Table 22-3 master transmitter and 22-4 master receiver status
- * codes), as the Wire library does it: 100 kHz (TWBR = 72, prescaler 1:
- * SCL = F_CPU / (16 + 2 * 72) = 100 kHz, section 22.5.2), busy-waiting on
- * TWINT. For the TwiSlave tests, against a device at 0x68:
+ * codes), as the Wire library does it (twi_master.h): 100 kHz (TWBR = 72,
+ * prescaler 1: SCL = F_CPU / (16 + 2 * 72) = 100 kHz, section 22.5.2),
+ * busy-waiting on TWINT. For the TwiSlave tests, against a device at 0x68:
  *   1. write register 0x10 = 0xA5, then 0x11 = 0x5A (pointer auto-increment);
  *   2. read 6 bytes from register 0x3B (write the pointer, repeated START,
  *      SLA+R, 5 bytes with ACK, the last with NACK, STOP) into block[];
@@ -10,50 +10,16 @@
  *   4. address 0x42 (nobody there): TWSR after SLA+W into nack_w, after
  *      SLA+R into nack_r.
  * The status after each step is kept in status[]; done = 1 at the end. */
-#include <avr/io.h>
-#include <stdint.h>
+#include "twi_master.h"
 
 #define DEVICE 0x68
 #define NOBODY 0x42
 
-volatile uint8_t status[16];
-volatile uint8_t status_count;
 volatile uint8_t block[6];
 volatile uint8_t readback[2];
 volatile uint8_t nack_w;
 volatile uint8_t nack_r;
 volatile uint8_t done;
-
-static uint8_t wait(void) {
-    while (!(TWCR & _BV(TWINT))) {
-    }
-    const uint8_t s = TWSR & 0xF8;
-    if (status_count < sizeof status) status[status_count++] = s;
-    return s;
-}
-
-static uint8_t start(void) {
-    TWCR = _BV(TWINT) | _BV(TWSTA) | _BV(TWEN);
-    return wait();
-}
-
-static uint8_t send(uint8_t byte) {
-    TWDR = byte;
-    TWCR = _BV(TWINT) | _BV(TWEN);
-    return wait();
-}
-
-static uint8_t receive(uint8_t ack) {
-    TWCR = _BV(TWINT) | _BV(TWEN) | (ack ? _BV(TWEA) : 0);
-    wait();
-    return TWDR;
-}
-
-static void stop(void) {
-    TWCR = _BV(TWINT) | _BV(TWEN) | _BV(TWSTO);
-    while (TWCR & _BV(TWSTO)) {
-    }
-}
 
 int main(void) {
     TWSR = 0;

@@ -70,5 +70,26 @@ TEST(TwiSlave, RefusesAReservedAddress) {
     expect_invalid_argument([&] { hil::TwiSlave slave(f.core, 0x78); }, "address 0x78");
 }
 
+TEST(TwiSlave, EachByteTakesNineSclPeriodsOfTheBusTwbrSets) {
+    // 100 kHz (TWBR = 72, prescaler 1): an SCL period is 16 + 2 x 72 = 160
+    // cycles, a byte and its ACK 9 x 160 = 1440 (datasheet 22.5.2). The
+    // fixture's 6-byte burst starts each byte (a TWCR write, when the slave
+    // is asked for it) as soon as TWINT shows the previous one done: the
+    // bytes are 1440 cycles apart plus the master's instructions between
+    // them (its status bookkeeping, the store, the loop: 44-45 cycles
+    // measured); simavr 1.6 alone: 9 us = 144 cycles.
+    FixtureCore f{"twi_fixture"};
+    hil::TwiSlave slave{f.core, kDevice};
+    std::vector<hil::Cycles> read_at;
+    slave.set_read_listener([&](uint8_t /*reg*/) { read_at.push_back(f.core.cycle()); });
+    ASSERT_TRUE(f.run_until_u8("done", 1, hil::ms_to_cycles(50, f.core.clock_hz())));
+    ASSERT_GE(read_at.size(), 6U);  // the burst of 6, then the 2 read back
+    for (std::size_t i = 1; i < 6; ++i) {
+        const hil::Cycles gap = read_at[i] - read_at[i - 1];
+        EXPECT_GE(gap, 1440U) << i;
+        EXPECT_LE(gap, 1440U + 60U) << i;
+    }
+}
+
 }  // namespace
 }  // namespace ddmr::test

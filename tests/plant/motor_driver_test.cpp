@@ -50,12 +50,20 @@ BridgeState drv8833(bool in1, bool in2, bool sleep) {
     return bridge_state(DriverType::drv8833, in);
 }
 
+BridgeState l9110(bool ia, bool ib) {
+    DriverInputLevels in;
+    in.in1 = ia;
+    in.in2 = ib;
+    return bridge_state(DriverType::l9110, in);
+}
+
 TEST(MotorDriver, ChipOfEachType) {
     EXPECT_EQ(chip_of(DriverType::dir_pwm), DriverChip::l298);
     EXPECT_EQ(chip_of(DriverType::l298n), DriverChip::l298);
     EXPECT_EQ(chip_of(DriverType::tb6612), DriverChip::tb6612);
     EXPECT_EQ(chip_of(DriverType::drv8833), DriverChip::drv8833);
     EXPECT_EQ(chip_of(DriverType::l293d), DriverChip::l293d);
+    EXPECT_EQ(chip_of(DriverType::l9110), DriverChip::l9110);
 }
 
 TEST(MotorDriver, DirPwmIsTheThesisShield) {
@@ -123,6 +131,24 @@ TEST(MotorDriver, Drv8833FollowsTable1) {
     for (bool in1 : {L, H}) {  // nSLEEP low: bridges Hi-Z, inputs ignored
         for (bool in2 : {L, H}) EXPECT_EQ(drv8833(in1, in2, L), kCoast);
     }
+}
+
+TEST(MotorDriver, L9110FollowsTheModulesTable) {
+    // Vendors' table (IA, IB) -> (OA, OB): HL forward (H, L), LH reverse
+    // (L, H), LL (L, L) and HH (H, H): both outputs on one rail, a shorted
+    // winding: brake. Never a coast: no input turns the outputs off.
+    EXPECT_EQ(l9110(H, L), kForward);
+    EXPECT_EQ(l9110(L, H), kReverse);
+    EXPECT_EQ(l9110(L, L), kBrake);
+    EXPECT_EQ(l9110(H, H), kBrake);
+    // PWM on IA (duty 0.6) with IB low: forward 60 % of the period, the
+    // off-time braking (slow decay), not coasting.
+    DriverInputDuties d;
+    d.in1 = 0.6;
+    const BridgeAverage a = average_bridge(DriverType::l9110, d);
+    EXPECT_DOUBLE_EQ(a.forward, 0.6);
+    EXPECT_DOUBLE_EQ(a.brake, 0.4);
+    EXPECT_DOUBLE_EQ(a.coast, 0.0);
 }
 
 TEST(MotorDriver, InputsATypeDoesNotHaveAreIgnored) {

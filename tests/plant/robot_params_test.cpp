@@ -71,10 +71,10 @@ TEST(RobotParams, EveryInvalidValueIsRejectedByName) {
                 f.member);
         }
     });
-    // 8 motor fields x 2 + 4 bridge fields x 4 chips (driver = L298, tb6612,
-    // drv8833, l293d) + 4 battery + 5 encoder (non-seed) x 2 + 3 kinematics
-    // + 4 body + 2 integration = 55
-    EXPECT_EQ(checked, 55);
+    // 8 motor fields x 2 + 4 bridge fields x 5 chips (driver = L298, tb6612,
+    // drv8833, l293d, l9110) + 4 battery + 5 encoder (non-seed) x 2 + 3
+    // kinematics + 4 body + 2 integration = 59
+    EXPECT_EQ(checked, 59);
     EXPECT_TRUE(probe == defaults);  // every value restored
 }
 

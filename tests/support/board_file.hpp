@@ -22,14 +22,17 @@ inline std::string board_load_error(const std::string& yaml) {
     return "";
 }
 
+/// The `wheels:` of the parts' test boards: dir-pwm on D10..D13, single
+/// encoders on D2 and D3.
+inline const std::string kUnoTestWheels =
+    "wheels:\n"
+    "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
+    "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n";
+
 /// An Uno board file with `parts` (YAML list items, each "  - {...}\n") and
-/// dir-pwm wheels on D10..D13 with single encoders on D2 and D3, read back.
+/// kUnoTestWheels, read back.
 inline hil::BoardWiring uno_with_parts(const TempDir& dir, const std::string& parts) {
-    std::ofstream(dir / "b.yaml") << "board: uno\nparts:\n"
-                                  << parts
-                                  << "wheels:\n"
-                                     "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
-                                     "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n";
+    std::ofstream(dir / "b.yaml") << "board: uno\nparts:\n" << parts << kUnoTestWheels;
     return hil::load_board_file(dir / "b.yaml");
 }
 

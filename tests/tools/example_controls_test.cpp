@@ -55,7 +55,10 @@ INSTANTIATE_TEST_SUITE_P(
                 "expected rms <= 0.003; row_middle.line_offset_m over 3000 samples"},
         // The sonar's TRIG and ECHO swapped: no echo ever, the car drives into the wall.
         Control{"obstacle_avoider_servo/scenario_swapped.yaml", "obstacle_avoider_servo_swapped", "wait-serial",
-                "expected 'stop ' within 4.000 s"}),
+                "expected 'stop ' within 4.000 s"},
+        // The MPU-6050 upside down (the Z gyro's sign flipped): positive feedback, it spins away.
+        Control{"heading_hold_mpu6050/scenario_flipped.yaml", "heading_hold_mpu6050_flipped", "wait-until",
+                "expected theta_rad < 0.035 within 1.500 s"}),
     control_name);
 
 }  // namespace

@@ -78,6 +78,31 @@ steps:
     EXPECT_NE(j["steps"][4]["message"].get<std::string>().find("left.wheel_rad_s = "), std::string::npos);
 }
 
+TEST(ScenarioCommand, APushOverTimeTurnsTheRobotEvenly) {
+    // The thesis robot at rest (case 1 not started: both bridges coasting)
+    // turned 0.4 rad evenly over 200 ms, a piece at each 62.5 us coupling
+    // step: halfway 0.2 rad (1600 of 3200 pieces), at the end all of it and
+    // no more after. The wheels do not turn: no encoder edges.
+    TempDir dir;
+    const auto f = write_text(dir, "push_over.yaml", R"(name: push_over
+timeout: 2s
+steps:
+  - delay: 100ms
+  - push: { dtheta_rad: 0.4, over: 200ms }
+  - delay: 100ms
+  - expect: { signal: theta_rad, between: [0.1999, 0.2001] }
+  - delay: 100ms
+  - expect: { signal: theta_rad, between: [0.3999, 0.4001] }
+  - delay: 100ms
+  - expect: { signal: theta_rad, between: [0.3999, 0.4001] }
+  - expect: { signal: edges1, op: "==", value: 0 }
+  - expect: { signal: edges2, op: "==", value: 0 }
+)");
+    const auto r = scenario(sh_quote(f.string()) + " --out " + sh_quote((dir / "out").string()));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_EQ(result_of(dir / "out/push_over")["verdict"], "pass");
+}
+
 TEST(ScenarioCommand, PlantSignalFailuresSayTheValueSeen) {
     TempDir dir;
     const auto slow = write_text(dir, "far.yaml", R"(name: far

@@ -188,8 +188,9 @@ struct Slip {  ///< `slip: {wheel: 1, traction: 0.3, for: 500ms}`
     double traction = 1.0;
     std::optional<Cycles> duration;
 };
-struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0}`: the robot is displaced
+struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0, over: 200ms}`: the robot is displaced
     double dx_m = 0.0, dy_m = 0.0, dtheta_rad = 0.0;
+    Cycles over = 0;  ///< spread evenly over this time (a hand turning it); 0: at once
 };
 /// `place: {x_m, y_m, heading_deg}`: the robot is set down at this pose (a
 /// hand lifting it; the wheels keep turning as they were, odometry does not see it).

@@ -296,7 +296,7 @@ private:
     }
     std::string run_step(const ExpectWarning& e) {
         const std::regex re(e.pattern);
-        const std::vector<std::string> warnings = rig_->driver().wiring_warnings();
+        const std::vector<std::string> warnings = rig_->warnings();
         for (const std::string& w : warnings) {
             if (std::regex_search(w, re)) return w;
         }
@@ -518,8 +518,25 @@ private:
         return {};
     }
     std::string run_step(const Push& p) {
-        rig_->robot().displace(plant::Pose{p.dx_m, p.dy_m, p.dtheta_rad});
+        const plant::Pose total{p.dx_m, p.dy_m, p.dtheta_rad};
+        if (p.over == 0) {
+            rig_->robot().displace(total);
+            return {};
+        }
+        const Cycles start = core().cycle();
+        push_from(total, start, start + p.over, start);
         return {};
+    }
+    /// The part of a push over [start, end] due from `done` to the next
+    /// coupling step (or the end), then the rest the same way: an even turn
+    /// or slide, as a hand gives it, that a gyro or an accelerometer feels.
+    void push_from(const plant::Pose& total, Cycles start, Cycles end, Cycles done) {
+        const Cycles next = std::min(end, done + rig_->coupler().config().step_cycles);
+        at(next, [this, total, start, end, done, next] {
+            const double f = static_cast<double>(next - done) / static_cast<double>(end - start);
+            rig_->robot().displace(plant::Pose{total.x_m * f, total.y_m * f, total.theta_rad * f});
+            if (next < end) push_from(total, start, end, next);
+        });
     }
     std::string run_step(const Reset&) {
         core().reset();  // parts re-arm through their reset listeners; EEPROM and plant keep their state
@@ -527,7 +544,7 @@ private:
     }
 
     void write_artifacts(const ScenarioResult& r) {
-        const json result = scenario_result_json(s_, r, rig_->driver().wiring_warnings());
+        const json result = scenario_result_json(s_, r, rig_->warnings());
         const hil::EepromImage image = rig_->eeprom().read_all();
         uart_txt_->commit();
         write_file_atomic(out_dir_ / "eeprom.bin",

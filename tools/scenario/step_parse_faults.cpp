@@ -24,8 +24,9 @@ std::optional<StepAction> parse_fault_step(const std::string& kind, const Ctx& c
                     optional_for(c)};
     }
     if (kind == "push") {
-        c.keys({"dx_m", "dy_m", "dtheta_rad"});
+        c.keys({"dx_m", "dy_m", "dtheta_rad", "over"});
         Push p;
+        if (c.has("over")) p.over = c.child("over").duration();
         if (c.has("dx_m")) p.dx_m = c.child("dx_m").number_in(-10, 10, "[-10, 10] m");
         if (c.has("dy_m")) p.dy_m = c.child("dy_m").number_in(-10, 10, "[-10, 10] m");
         if (c.has("dtheta_rad")) p.dtheta_rad = c.child("dtheta_rad").number_in(-10, 10, "[-10, 10] rad");

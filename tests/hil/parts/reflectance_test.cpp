@@ -89,10 +89,7 @@ TEST(Reflectance, AnRcLineDecaysIn780MicrosecondsOverWhiteAnd10MillisecondsOverB
 
 TEST(Reflectance, AnAnalogSensorOnAPinWithoutAnAdcIsRefusedWhereTheBoardFileSaysSo) {
     const std::string error = board_load_error(
-        "board: uno\nparts:\n  - {name: qtr, type: reflectance, output: analog, OUT: 7}\n"
-        "wheels:\n"
-        "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
-        "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n");
+        "board: uno\nparts:\n  - {name: qtr, type: reflectance, output: analog, OUT: 7}\n" + kUnoTestWheels);
     EXPECT_NE(error.find("b.yaml:3: key 'parts.qtr.OUT': an analog reflectance sensor needs an ADC input: pin 7 of the "),
               std::string::npos)
         << error;

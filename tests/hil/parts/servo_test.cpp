@@ -108,10 +108,7 @@ TEST(Servo, ASensorOnTheHornTurnsWithIt) {
 
 TEST(Servo, APartOnTheHornIsCheckedWhenTheBoardFileIsRead) {
     const std::string head = "board: uno\nparts:\n  - {name: pan, type: servo, SIGNAL: 9}\n";
-    const std::string wheels =
-        "wheels:\n"
-        "  right: {motor: {driver: dir-pwm, PWM: 10, DIR: 12}, encoder: {type: single, OUT: 2}}\n"
-        "  left:  {motor: {driver: dir-pwm, PWM: 11, DIR: 13}, encoder: {type: single, OUT: 3}}\n";
+    const std::string& wheels = kUnoTestWheels;
     EXPECT_EQ(board_load_error(head + "  - {name: ir, type: ir-obstacle, OUT: 7, mount: pan}\n" + wheels), "");
     EXPECT_NE(board_load_error(head + "  - {name: ir, type: ir-obstacle, OUT: 7, mount: tilt}\n" + wheels)
                   .find("b.yaml:4: key 'parts.ir.mount': no part is called 'tilt'"),
