@@ -85,6 +85,8 @@ bench: build
 	    --benchmark_out_format=json
 	./$(BUILD)/tests/bench/ddmr_hil_bench --benchmark_out=$(BUILD)/bench/hil.json \
 	    --benchmark_out_format=json --ratio_out=$(BUILD)/bench/hil_ratio.json
+	./$(BUILD)/tests/bench/ddmr_world_bench --benchmark_out=$(BUILD)/bench/world.json \
+	    --benchmark_out_format=json
 	./$(BUILD)/tests/bench/ddmr_sim_bench --benchmark_out=$(BUILD)/bench/sim.json \
 	    --benchmark_out_format=json
 	./$(BUILD)/tests/bench/ddmr_calibrate_bench --benchmark_out=$(BUILD)/bench/calibrate.json \

@@ -81,6 +81,9 @@ public:
     ResetMonitor& reset_monitor() { return reset_monitor_; }
     const ResetMonitor& reset_monitor() const { return reset_monitor_; }
     const RigConfig& config() const { return config_; }
+    /// The world around the robot, which the robot and the parts read at
+    /// each step: a scenario moves its obstacles here (move-obstacle).
+    plant::World& world() { return config_.world; }
 
 private:
     RigConfig config_;

@@ -1,6 +1,7 @@
 // VcdRecorder: rig events => VcdWriter signals (see vcd_recorder.hpp).
 #include "hil/vcd_recorder.hpp"
 
+#include <avr_ioport.h>
 #include <avr_uart.h>
 #include <sim_avr.h>
 #include <sim_interrupts.h>
@@ -92,6 +93,9 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
     std::stable_sort(pins.begin(), pins.end(), [](const PinSignal& a, const PinSignal& b) { return a.pin < b.pin; });
     const std::string scope = board_scope(desc);
     for (const PinSignal& p : pins) *p.id = writer_.add_wire(scope, p.name, p.initial);
+    std::vector<int> traced(pins.size());
+    std::transform(pins.begin(), pins.end(), traced.begin(), [](const PinSignal& p) { return p.pin; });
+    hook_part_pins(board, scope, std::move(traced));
 
     avr_t* avr = core_.raw();
     const McuDescription& mcu = core_.mcu();
@@ -121,6 +125,8 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
                                 "encoder edges");
     writer_.add_comment(scope + ".D<pin>_<wheel>_<input>: motor driver inputs; on a timer pin the waveform the plant is "
                                 "driven with (decoded from the timer registers), elsewhere the PORT bit at its write");
+    writer_.add_comment(scope + ".D<pin>_<part>_<key>: a board part's pins (a sensor's TRIG, ECHO, OUT): the level "
+                                "simavr's port shows, what the firmware drives or the part drives into it");
     writer_.add_comment("isr.isr_*: 1 from the vector's entry to the end of its RETI");
     writer_.add_comment(profiler_ != nullptr
                             ? "firmware.loop_iteration: exact, +1 at each return of the loop mark (LoopProfiler)"
@@ -153,7 +159,37 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
     rig_.coupler().set_step_listener([this](Cycles from, Cycles to) { draw_timer_pins(from, to); });
 }
 
+void VcdRecorder::hook_part_pins(const BoardWiring& board, const std::string& scope, std::vector<int> traced) {
+    const BoardDescription& desc = core_.board();
+    std::size_t count = 0;
+    for (const PartEntry& p : board.parts) {
+        for (const auto& [key, v] : p.values) count += v.pin >= 0 ? 1U : 0U;
+    }
+    part_pins_.reserve(count);
+    for (const PartEntry& p : board.parts) {
+        for (const auto& [key, v] : p.values) {
+            if (v.pin < 0 || std::find(traced.begin(), traced.end(), v.pin) != traced.end()) continue;
+            traced.push_back(v.pin);
+            const std::optional<PinInfo> info = board_pin(desc, v.pin);
+            avr_irq_t* irq = avr_io_getirq(core_.raw(), static_cast<uint32_t>(AVR_IOCTL_IOPORT_GETIRQ(info->port)), info->bit);
+            if (irq == nullptr) throw std::runtime_error("VcdRecorder: simavr has no IRQ for pin " + std::to_string(v.pin));
+            const bool level = ((core_.data(info->pin_register) >> info->bit) & 1U) != 0;
+            part_pins_.push_back(PartPinHook{this, irq, writer_.add_wire(scope, pin_name(v.pin, p.name + "_" + key), level), level});
+        }
+    }
+    for (PartPinHook& h : part_pins_) avr_irq_register_notify(h.irq, &VcdRecorder::on_part_pin, &h);
+}
+
+void VcdRecorder::on_part_pin(avr_irq_t* /*irq*/, uint32_t value, void* param) {
+    auto* h = static_cast<PartPinHook*>(param);
+    const bool level = (value & 1U) != 0;
+    if (level == h->level) return;
+    h->level = level;
+    h->self->writer_.change(h->signal, h->self->core_.cycle(), level ? 1 : 0);
+}
+
 VcdRecorder::~VcdRecorder() {
+    for (PartPinHook& h : part_pins_) avr_irq_unregister_notify(h.irq, &VcdRecorder::on_part_pin, &h);
     rig_.coupler().set_step_listener(nullptr);
     rig_.encoders().set_edge_listener(nullptr);
     for (avr_irq_t* irq : port_irqs_) avr_irq_unregister_notify(irq, &VcdRecorder::on_port_write, this);

@@ -91,6 +91,8 @@ private:
     static void on_tx(avr_irq_t* irq, uint32_t value, void* param);
     static void on_rx(avr_irq_t* irq, uint32_t value, void* param);
     static void on_port_write(avr_irq_t* irq, uint32_t value, void* param);
+    static void on_part_pin(avr_irq_t* irq, uint32_t value, void* param);
+    void hook_part_pins(const BoardWiring& board, const std::string& scope, std::vector<int> traced);
     void draw_frame(SerialLine& line, uint8_t byte);
     void sample_directions();
     void draw_timer_pins(Cycles from, Cycles to);
@@ -122,6 +124,16 @@ private:
         LogicSignal::ListenerId listener = 0;
     };
     std::vector<PartTrace> part_outputs_;
+    /// Each board pin of a part (a sensor's TRIG, ECHO, OUT) not traced above:
+    /// simavr's pin IRQ, carrying what the firmware drives on it and what the
+    /// part drives into it.
+    struct PartPinHook {
+        VcdRecorder* self = nullptr;
+        avr_irq_t* irq = nullptr;
+        VcdWriter::SignalId signal = 0;
+        bool level = false;
+    };
+    std::vector<PartPinHook> part_pins_;  ///< sized once: hooks hold pointers into it
     VcdWriter::SignalId loop_ = 0;
     uint32_t loop_count_ = 0;
     std::size_t profiled_seen_ = 0;

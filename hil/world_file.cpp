@@ -102,13 +102,23 @@ plant::FloorLine read_line(const YamlReader& r, const YAML::Node& n, const std::
     return line;
 }
 
-void read_walls(const YamlReader& r, const YAML::Node& n, std::vector<plant::Wall>& out) {
+/// A wall's `name`: a new obstacle's index (a name used once).
+int add_obstacle(const YamlReader& r, const YAML::Node& n, const std::string& key, plant::World& world) {
+    const std::string name = r.text(n, key);
+    if (name.empty()) r.fail(n, key, "an obstacle's name must not be empty");
+    if (plant::find_obstacle(world, name)) r.fail(n, key, fmt::format("a second obstacle called '{}'", name));
+    world.obstacles.push_back(name);
+    return static_cast<int>(world.obstacles.size() - 1);
+}
+
+void read_walls(const YamlReader& r, const YAML::Node& n, plant::World& world) {
     if (!n.IsSequence()) r.fail(n, "walls", "expected a list of walls");
     for (std::size_t i = 0; i < n.size(); ++i) {
         const std::string key = fmt::format("walls[{}]", i);
         const YAML::Node w = n[i];
         r.mapping(w, key);
-        r.only_keys(w, key, {"from_m", "to_m", "polygon_m", "height_m"});
+        r.only_keys(w, key, {"from_m", "to_m", "polygon_m", "height_m", "name"});
+        const int obstacle = w["name"] ? add_obstacle(r, w["name"], key + ".name", world) : -1;
         const double height = w["height_m"] ? r.number(w["height_m"], key + ".height_m", 1e-3, 100.0) : plant::Wall{}.height_m;
         std::vector<Eigen::Vector2d> corners;
         if (w["polygon_m"]) {
@@ -121,7 +131,7 @@ void read_walls(const YamlReader& r, const YAML::Node& n, std::vector<plant::Wal
         }
         for (std::size_t c = 0; c + 1 < corners.size(); ++c) {
             if (corners[c] == corners[c + 1]) r.fail(w, key, "a wall of zero length (two corners at the same point)");
-            out.push_back(plant::Wall{corners[c], corners[c + 1], height});
+            world.walls.push_back(plant::Wall{corners[c], corners[c + 1], height, obstacle});
         }
     }
 }
@@ -156,7 +166,7 @@ plant::World load_world_file(const std::filesystem::path& path) {
         if (!lines.IsSequence()) r.fail(lines, "lines", "expected a list of lines");
         for (std::size_t i = 0; i < lines.size(); ++i) w.lines.push_back(read_line(r, lines[i], fmt::format("lines[{}]", i)));
     }
-    if (root["walls"]) read_walls(r, root["walls"], w.walls);
+    if (root["walls"]) read_walls(r, root["walls"], w);
     return w;
 }
 

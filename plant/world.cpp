@@ -132,6 +132,11 @@ std::optional<ConeHit> cast_cone(const World& world, const Cone& cone) {
     for (std::size_t i = 0; i < world.walls.size(); ++i) {
         const Wall& w = world.walls[i];
         if (w.height_m < cone.height_m) continue;
+        // No point of a wall is nearer than its nearest point: one beyond the
+        // range (or beyond the best hit so far) cannot be hit.
+        const double nearest_sq = (closest_on_segment(w.a_m, w.b_m, cone.origin_m) - cone.origin_m).squaredNorm();
+        const double reach = best ? std::min(best->distance_m, cone.max_range_m) : cone.max_range_m;
+        if (nearest_sq > reach * reach) continue;
         std::optional<ConeHit> h = hit_in_cone(w, cone);
         if (!h || h->distance_m > cone.max_range_m || h->incidence_rad > cone.max_incidence_rad) continue;
         if (best && h->distance_m >= best->distance_m) continue;
@@ -145,6 +150,21 @@ double nearest_wall_distance(const World& world, const Eigen::Vector2d& p) {
     double best = std::numeric_limits<double>::infinity();
     for (const Wall& w : world.walls) best = std::min(best, (p - closest_on_segment(w.a_m, w.b_m, p)).norm());
     return best;
+}
+
+std::optional<std::size_t> find_obstacle(const World& world, const std::string& name) {
+    for (std::size_t i = 0; i < world.obstacles.size(); ++i) {
+        if (world.obstacles[i] == name) return i;
+    }
+    return std::nullopt;
+}
+
+void move_obstacle(World& world, std::size_t index, const Eigen::Vector2d& delta_m) {
+    for (Wall& w : world.walls) {
+        if (w.obstacle != static_cast<int>(index)) continue;
+        w.a_m += delta_m;
+        w.b_m += delta_m;
+    }
 }
 
 }  // namespace ddmr::plant

@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "plant/diff_drive_kinematics.hpp"
@@ -65,14 +66,21 @@ struct Wall {
     Eigen::Vector2d a_m = Eigen::Vector2d::Zero();
     Eigen::Vector2d b_m = Eigen::Vector2d::Zero();
     double height_m = 0.2;
+    int obstacle = -1;  ///< the named obstacle it belongs to (index in World::obstacles); -1: none
 };
 
 struct World {
     double floor_reflectance = kWhiteReflectance;
     std::vector<FloorLine> lines;
     std::vector<Wall> walls;
+    std::vector<std::string> obstacles;  ///< the names of walls that a scenario may move (a box, a door)
     std::optional<Pose> start;  ///< the robot's pose at power-on; none: the origin, heading +x
 };
+
+/// The index of obstacle `name` in World::obstacles, if there is one.
+std::optional<std::size_t> find_obstacle(const World& world, const std::string& name);
+/// Moves every wall of obstacle `index` by `delta_m`.
+void move_obstacle(World& world, std::size_t index, const Eigen::Vector2d& delta_m);
 
 /// The point of a piece's centreline nearest to `p`.
 Eigen::Vector2d closest_point(const LinePiece& piece, const Eigen::Vector2d& p);

@@ -13,6 +13,7 @@
 #include "common/atomic_file.hpp"
 #include "common/firmware_diagnostics.hpp"
 #include "common/truth_csv.hpp"
+#include "common/world_json.hpp"
 #include "contract_watch.hpp"
 #include "exit_codes.hpp"
 #include "firmware_run_json.hpp"
@@ -500,6 +501,10 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
     for (const std::string& w : wiring_warnings) std::fprintf(stderr, "ddmr-hil: warning: %s\n", w.c_str());
     const json summary = summary_json(session, plan, options, result, watch, profile, profilers, isr, wiring_warnings);
     uart_txt.commit();
+    const plant::World& world = session.rig().world();
+    if (!world.lines.empty() || !world.walls.empty()) {
+        write_file_atomic(options.out_dir / "world.json", world_json(world).dump(2) + "\n");
+    }
     write_file_atomic(options.out_dir / "eeprom.bin",
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()), result.eeprom.size()));
     if (plan.contract && plan.contract->eeprom_log) {

@@ -98,7 +98,12 @@ PartType servo_type() {
     t.datasheet = "TowerPro SG90 (0.1 s/60 deg, dead band 10 us); Arduino Servo library (544-2400 us for 0-180 deg)";
     t.keys = {PartKey::input("SIGNAL", "the control signal: a HIGH pulse every 20 ms, its width the angle")};
     for (PartKey& k : mount_keys("the horn's axis", true, 60)) {
-        if (k.kind != PartKeyKind::carrier) t.keys.push_back(std::move(k));  // a servo sits on the chassis
+        if (k.kind == PartKeyKind::carrier) continue;  // a servo sits on the chassis
+        if (k.name == "heading_deg") {
+            k.description = "where the horn points at 90 degrees, counter-clockwise from straight ahead [deg] "
+                            "(0 degrees points 90 to its right, 180 to its left)";
+        }
+        t.keys.push_back(std::move(k));
     }
     t.keys.push_back(PartKey::number("min_us", "the pulse width for 0 degrees [us]", 544, 100, 5000));
     t.keys.push_back(PartKey::number("max_us", "the pulse width for 180 degrees [us]", 2400, 100, 5000));

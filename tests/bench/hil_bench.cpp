@@ -54,13 +54,13 @@
 #include <map>
 #include <string>
 
+#include "child_run.hpp"
 #include "firmware_run.hpp"
 #include "hil/firmware_report.hpp"
 #include "hil/robot_rig.hpp"
 #include "hil/uart_link.hpp"
 #include "support/uno_board.hpp"
 
-extern char** environ;
 
 namespace {
 
@@ -186,33 +186,8 @@ void BM_ShippedScenarioSuite(benchmark::State& state) {
     }
 }
 
-/// A child process's exit status, wall time and peak resident set.
-struct ChildRun {
-    int status = -1;
-    double wall_s = 0.0;
-    long max_rss_kb = 0;
-};
-
-ChildRun run_child(std::vector<std::string> args) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-    const auto t0 = std::chrono::steady_clock::now();
-    pid_t pid = 0;
-    ChildRun r;
-    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0) {
-        rusage usage{};
-        wait4(pid, &r.status, 0, &usage);
-        r.max_rss_kb = usage.ru_maxrss;
-    }
-    posix_spawn_file_actions_destroy(&actions);
-    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return r;
-}
+using ddmr::bench::ChildRun;
+using ddmr::bench::run_child;
 
 /// Writes `text` to `path`.
 void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }

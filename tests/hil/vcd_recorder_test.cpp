@@ -93,6 +93,12 @@ TEST(VcdRecorder, DrawsEachPartOutputFromTheCycleItChanges) {
     EXPECT_EQ(test::edge_count(f.var("ddmr_hil.sr.Q2")), 1u);
     EXPECT_EQ(f.var("ddmr_hil.sr.Q1").changes.back().value, 1u);
     EXPECT_EQ(f.var("ddmr_hil.sr.Q1").changes.back().time, f.var("ddmr_hil.sr.Q2").changes.back().time);
+    // The part's own pins: SHCP clocks 8 bits (up, then down and up 7 times:
+    // 15 edges), STCP latches once (1 edge), DS carries 0x06 MSB first
+    // (0 0 0 0 0 1 1 0: 2 edges).
+    EXPECT_EQ(test::edge_count(f.var("ddmr_hil.uno.D4_sr_SHCP")), 15u);
+    EXPECT_EQ(test::edge_count(f.var("ddmr_hil.uno.D12_sr_STCP")), 1u);
+    EXPECT_EQ(test::edge_count(f.var("ddmr_hil.uno.D8_sr_DS")), 2u);
     // Destroyed, the recorder left no listener on the part: the rig runs on.
     EXPECT_NO_THROW(rig.core().run_until(rig.core().cycle() + 1000));
 }

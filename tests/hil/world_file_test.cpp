@@ -93,6 +93,31 @@ TEST(WorldFile, PolylinesPolygonWallsTheFloorAndTheStart) {
     EXPECT_EQ(w.walls[4].height_m, 0.3);
     EXPECT_EQ(w.walls[4].b_m, Eigen::Vector2d(-3, -3));  // the polygon closes
     EXPECT_DOUBLE_EQ(plant::nearest_wall_distance(w, {0, 0}), 2.0);
+    EXPECT_TRUE(w.obstacles.empty());
+    EXPECT_EQ(w.walls[0].obstacle, -1);
+}
+
+TEST(WorldFile, NamedWallsAreObstaclesAScenarioMayMove) {
+    // A 0.2 m box named "box" ahead of the robot; a named wall; an unnamed arena.
+    TempDir dir;
+    plant::World w = world_of(dir,
+                              "walls:\n"
+                              "  - {polygon_m: [[0.5, -0.1], [0.7, -0.1], [0.7, 0.1], [0.5, 0.1]], name: box}\n"
+                              "  - {from_m: [-1, 1], to_m: [1, 1], name: door}\n"
+                              "  - {polygon_m: [[-2, -2], [2, -2], [2, 2], [-2, 2]]}\n");
+    EXPECT_EQ(w.obstacles, (std::vector<std::string>{"box", "door"}));
+    ASSERT_EQ(w.walls.size(), 9U);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(w.walls[i].obstacle, 0) << i;
+    EXPECT_EQ(w.walls[4].obstacle, 1);
+    EXPECT_EQ(w.walls[5].obstacle, -1);
+    EXPECT_DOUBLE_EQ(plant::nearest_wall_distance(w, {0, 0}), 0.5);
+    // Moved 0.3 m to the left, the box's nearest corner is (0.5, 0.2):
+    // 0.539 m away, nearer than the door (1 m).
+    plant::move_obstacle(w, *plant::find_obstacle(w, "box"), Eigen::Vector2d(0.0, 0.3));
+    EXPECT_DOUBLE_EQ(w.walls[0].a_m.y(), 0.2);
+    EXPECT_NEAR(plant::nearest_wall_distance(w, {0, 0}), std::hypot(0.5, 0.2), 1e-12);
+    EXPECT_EQ(w.walls[4].a_m, Eigen::Vector2d(-1, 1));  // the door stays
+    EXPECT_FALSE(plant::find_obstacle(w, "window"));
 }
 
 TEST(WorldFile, BadFilesAreRefusedWithTheLineAndTheKey) {
@@ -112,6 +137,8 @@ TEST(WorldFile, BadFilesAreRefusedWithTheLineAndTheKey) {
         {"lines:\n  - {width_m: 0.02}\n",
          "2: key 'lines[0]': a line needs points_m (corners) or path (from_m, heading_deg and steps)"},
         {"walls:\n  - {from_m: [0, 0], to_m: [1, x]}\n", "2: key 'walls[0].to_m': 'x' is not a number"},
+        {"walls:\n  - {from_m: [0, 0], to_m: [1, 0], name: box}\n  - {from_m: [0, 1], to_m: [1, 1], name: box}\n",
+         "3: key 'walls[1].name': a second obstacle called 'box'"},
     };
     for (const auto& [text, why] : cases) EXPECT_EQ(refusal(dir, text), f + ":" + why) << text;
     EXPECT_EQ(refusal(dir, "floor: [1\n").rfind(f + ":", 0), 0U);  // malformed YAML names the file

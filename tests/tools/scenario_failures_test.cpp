@@ -374,6 +374,13 @@ std::vector<FailingCase> plant_cases() {
               R"(expected rms <= 0\.001; line_offset_m over \d+ samples: rms (0\.0\d+), mean .*)")
             .measuring(0.02, 0.02)
             .in_world(kTapeAlongX + "start: {x_m: 0, y_m: 0.02, heading_deg: 0}\n"),
+        // The same offset, -0.02 m throughout: outside a range of [-0.01, 0.01].
+        check("expect-stats", "expect_stats_range", kEcho,
+              {"measure: {signal: line_offset_m}", "delay: 50ms", "expect-stats: {signal: line_offset_m, range: [-0.01, 0.01]}"},
+              R"(expected every sample in \[-0\.01, 0\.01\]; line_offset_m over \d+ samples: rms [\d.e-]+, mean [-\d.e]+, )"
+              R"(min (-0\.0\d+), max .*)")
+            .measuring(-0.02, -0.02)
+            .in_world(kTapeAlongX + "start: {x_m: 0, y_m: 0.02, heading_deg: 0}\n"),
         // A marker 50 mm ahead of the axle, over a tape 20 mm to the right.
         check("expect", "expect_part_column", kEcho, {"delay: 10ms", "expect: {signal: nose.line_offset_m, op: \">\", value: 0}"},
               R"(expected nose\.line_offset_m > 0, got (-0\.0\d+))")
@@ -387,6 +394,15 @@ std::vector<FailingCase> plant_cases() {
                 "expect-pose: {x_m: 0, y_m: 0, tol_m: 0.1}"},
                R"(expected the truth pose within 0\.1 m of \(0\.0000, 0\.0000\); got \(0\.4000, -0\.2000\) )"
                R"(theta 1\.5708 rad, 0\.4472 m away)"),
+        // echo_fixture leaves the robot standing at the origin; the box's
+        // near face, 0.5 m ahead, slides 0.3 m toward it over 100 ms: the
+        // nearest wall is then 0.2 m from the axle.
+        action("move-obstacle", 0, "move_obstacle_brings_the_box", kEcho,
+               {"move-obstacle: {name: box, dx_m: -0.3, over: 100ms}", "delay: 150ms",
+                "expect: {signal: wall_distance_m, op: \">\", value: 0.4}"},
+               R"(expected wall_distance_m > 0\.4, got (0\.\d+))")
+            .measuring(0.2, 0.2)
+            .in_world("walls:\n  - {polygon_m: [[0.5, -0.1], [0.7, -0.1], [0.7, 0.1], [0.5, 0.1]], name: box}\n"),
         // A reset clears DDRB and PORTB: D12 is an input again, read low.
         action("reset", 1, "reset_clears_the_pins", kDrive, {"delay: 1ms", "reset", "expect-pin: {pin: 12, value: 1}"},
                R"(expected pin 12 = 1, got 0)"),

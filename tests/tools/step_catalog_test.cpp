@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
 #include <string>
 
 #include "scenario/scenario_yaml.hpp"
+#include "support/temp_dir.hpp"
 #include "support/test_paths.hpp"
 
 namespace ddmr::tools::scenario {
@@ -22,16 +24,23 @@ LoadOptions options() {
 TEST(StepCatalog, EveryExampleParsesAsItsKind) {
     // As if in tests/scenarios/ (its golden/ files are there).
     const auto file = test::source_dir() / "tests/scenarios/catalogue.yaml";
+    // move-obstacle names an obstacle of its world: as if beside a world with a box.
+    test::TempDir dir;
+    std::ofstream(dir / "world.yaml") << "walls:\n  - {polygon_m: [[1, -0.1], [1.2, -0.1], [1.2, 0.1], [1, 0.1]], name: box}\n";
     std::set<std::string_view> kinds;
     for (const StepInfo& s : step_catalog()) {
         EXPECT_TRUE(kinds.insert(s.kind).second) << s.kind << " twice";
         // expect-part names a part of its board: as if beside the shield example's.
         const bool part = s.kind == "expect-part";
-        const std::string text =
-            std::string(part ? "board: board.yaml\n" : "") + "timeout: 10s\nsteps:\n  - " + std::string(s.example) + "\n";
+        const bool obstacle = s.kind == "move-obstacle";
+        const std::string text = std::string(part ? "board: board.yaml\n" : "") + (obstacle ? "world: world.yaml\n" : "") +
+                                 "timeout: 10s\nsteps:\n  - " + std::string(s.example) + "\n";
         try {
-            const Scenario sc = parse_scenario(
-                text, part ? test::source_dir() / "firmware/examples/afmotor_shield_v1/catalogue.yaml" : file, options());
+            const Scenario sc = parse_scenario(text,
+                                               part       ? test::source_dir() / "firmware/examples/afmotor_shield_v1/catalogue.yaml"
+                                               : obstacle ? dir / "catalogue.yaml"
+                                                          : file,
+                                               options());
             ASSERT_EQ(sc.steps.size(), 1u);
             EXPECT_EQ(sc.steps[0].kind, s.kind);
         } catch (const std::exception& e) {

@@ -82,7 +82,7 @@ def run_report(run_dir):
     plots = []
 
     # X-Y trajectories.
-    fig, ax = xy_axes()
+    fig, ax = xy_axes(run_dir)
     goal_circle(ax, radius, period)
     ax.plot(x_in, y_in, lw=1.5, label="plant truth (HIL)")
     if log:

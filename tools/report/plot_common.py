@@ -5,6 +5,7 @@ series of the plant's columns (truth.csv and sim.csv share them), currents and
 battery voltage as PWM-window means, markers for a scenario's steps, and
 report.md's sections (a caption under every plot)."""
 import csv
+import json
 import math
 import os
 import sys
@@ -134,9 +135,32 @@ def draw_marks(ax, marks):
 
 # --- Plots ------------------------------------------------------------------
 
-def xy_axes():
+def xy_axes(folder=None):
+    """An X-Y figure; with `folder`, the world of its world.json drawn first
+    (the run's tape lines and walls, under the robot's path)."""
     fig, ax = plt.subplots(figsize=(6.5, 7.3))
+    if folder is not None:
+        draw_world(ax, folder)
     return fig, ax
+
+
+def draw_world(ax, folder):
+    """The tape lines (their centrelines, grey) and walls (brown) of
+    folder/world.json, which `run` and `scenario` write when the robot drove
+    in a world (docs/world.md); nothing without it."""
+    path = os.path.join(folder, "world.json")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        world = json.load(f)
+    for i, line in enumerate(world.get("lines", [])):
+        xs = [p[0] for p in line["points_m"]]
+        ys = [p[1] for p in line["points_m"]]
+        ax.plot(xs, ys, color="0.55", lw=5, alpha=0.5, solid_capstyle="round", zorder=0,
+                label=f"tape line ({line['width_m'] * 1000:.0f} mm)" if i == 0 else None)
+    for i, wall in enumerate(world.get("walls", [])):
+        (x0, y0), (x1, y1) = wall["from_m"], wall["to_m"]
+        ax.plot([x0, x1], [y0, y1], color="saddlebrown", lw=3, zorder=0, label="wall" if i == 0 else None)
 
 
 def finish_xy(fig, ax, title, out_dir, name="xy"):

@@ -110,7 +110,7 @@ def scenario_report(folder):
                        "was coupled)")
     else:
         t = truth["t_s"]
-        fig, ax = xy_axes()
+        fig, ax = xy_axes(folder)
         ax.plot(truth["x_m"], truth["y_m"], lw=1.5, label="plant truth")
         if log:
             ax.plot(log["x_m"], log["y_m"], "o", ms=3, label="firmware EEPROM log")

@@ -161,6 +161,7 @@ struct ExpectStats {
     std::optional<double> rms_max;  ///< sqrt(mean of squares) at most this
     std::optional<double> abs_max;  ///< every |sample| at most this
     Range mean;                     ///< the mean within [min, max]
+    Range range;                    ///< every sample within [min, max]
     uint64_t min_samples = 1;       ///< at least this many samples
 };
 struct ExpectEncoders {  ///< `expect-encoders: {max_lost: 0}`: edges lost at the pins
@@ -197,12 +198,19 @@ struct Push {  ///< `push: {dx_m: 0.05, dy_m: 0, dtheta_rad: 0, over: 200ms}`: t
 struct Place {
     double x_m = 0.0, y_m = 0.0, heading_deg = 0.0;
 };
+/// `move-obstacle: {name: box, dx_m: 0.2, dy_m: 0, over: 1s}`: a named
+/// obstacle of the world moves (at once, or evenly over `over`).
+struct MoveObstacle {
+    std::string name;
+    double dx_m = 0.0, dy_m = 0.0;
+    Cycles over = 0;
+};
 struct Reset {};  ///< AVR reset (the EEPROM and the robot keep their state)
 
 using StepAction = std::variant<Delay, WriteSerial, WaitSerial, ExpectSerial, FailSerial, WaitPin, ExpectPin,
                                 ExpectPart, ExpectWarning, ExpectPwm, ExpectVar, ExpectPose, ExpectEeprom, ExpectCompare, ExpectLoop,
                                 ExpectIsr, ExpectNoTornReads, ExpectEncoders, WaitUntil, ExpectSignal, Measure, ExpectStats, InjectDrop,
-                                Stall, Battery, Slip, Push, Place, Reset>;
+                                Stall, Battery, Slip, Push, Place, MoveObstacle, Reset>;
 
 struct Step {
     int line = 0;        ///< 1-based line in the scenario file

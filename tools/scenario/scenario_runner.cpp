@@ -17,7 +17,9 @@
 #include "common/atomic_file.hpp"
 #include "common/csv_table.hpp"
 #include "common/truth_csv.hpp"
+#include "common/world_json.hpp"
 #include "plant/units.hpp"
+#include "scenario/fault_steps.hpp"
 #include "scenario/scenario_signals.hpp"
 #include "comparison.hpp"
 #include "exit_codes.hpp"
@@ -106,6 +108,7 @@ public:
         session_->set_failure_wording(hil::FailureWording::kInStep);  // the step's failure line gives the time
         rig_ = &session_->rig();
         signals_.emplace(*rig_);
+        faults_.emplace(*session_);
         if (s.needs_loop_profile()) {
             const auto mark = elf_.require("delay");
             profiler_.emplace(rig_->core(), mark);
@@ -484,59 +487,10 @@ private:
         }
         return fmt::format("{} = {:.9g}", e.signal, v);
     }
-    void set_faults(const std::function<void(plant::RobotFaults&)>& change) {
-        plant::RobotFaults f = rig_->robot().faults();
-        change(f);
-        rig_->robot().set_faults(f);
-    }
-    std::string run_step(const InjectDrop& d) {
-        const auto m = static_cast<std::size_t>(d.encoder - 1);
-        rig_->robot().set_missed_edge_probability(m, d.drop);
-        if (d.duration) at(core().cycle() + *d.duration, [this, m] { rig_->robot().set_missed_edge_probability(m, 0.0); });
-        return {};
-    }
-    std::string run_step(const Stall& st) {
-        const auto m = static_cast<std::size_t>(st.motor - 1);
-        set_faults([m](plant::RobotFaults& f) { f.shaft_locked[m] = true; });
-        at(core().cycle() + st.duration, [this, m] { set_faults([m](plant::RobotFaults& f) { f.shaft_locked[m] = false; }); });
-        return {};
-    }
-    std::string run_step(const Battery& b) {
-        set_faults([&](plant::RobotFaults& f) { f.source_V = b.volts; });
-        if (b.duration) at(core().cycle() + *b.duration, [this] { set_faults([](plant::RobotFaults& f) { f.source_V.reset(); }); });
-        return {};
-    }
-    std::string run_step(const Slip& sl) {
-        const auto m = static_cast<std::size_t>(sl.wheel - 1);
-        set_faults([&](plant::RobotFaults& f) { f.traction[m] = sl.traction; });
-        if (sl.duration) at(core().cycle() + *sl.duration, [this, m] { set_faults([m](plant::RobotFaults& f) { f.traction[m] = 1.0; }); });
-        return {};
-    }
-    std::string run_step(const Place& p) {
-        const plant::Pose now = rig_->robot().pose();
-        rig_->robot().displace({p.x_m - now.x_m, p.y_m - now.y_m, p.heading_deg * plant::kPi / 180.0 - now.theta_rad});
-        return {};
-    }
-    std::string run_step(const Push& p) {
-        const plant::Pose total{p.dx_m, p.dy_m, p.dtheta_rad};
-        if (p.over == 0) {
-            rig_->robot().displace(total);
-            return {};
-        }
-        const Cycles start = core().cycle();
-        push_from(total, start, start + p.over, start);
-        return {};
-    }
-    /// The part of a push over [start, end] due from `done` to the next
-    /// coupling step (or the end), then the rest the same way: an even turn
-    /// or slide, as a hand gives it, that a gyro or an accelerometer feels.
-    void push_from(const plant::Pose& total, Cycles start, Cycles end, Cycles done) {
-        const Cycles next = std::min(end, done + rig_->coupler().config().step_cycles);
-        at(next, [this, total, start, end, done, next] {
-            const double f = static_cast<double>(next - done) / static_cast<double>(end - start);
-            rig_->robot().displace(plant::Pose{total.x_m * f, total.y_m * f, total.theta_rad * f});
-            if (next < end) push_from(total, start, end, next);
-        });
+    /// The steps that act on the robot and its world (fault_steps.hpp).
+    template <class Action>
+    auto run_step(const Action& a) -> decltype(std::declval<FaultSteps&>().run(a)) {
+        return faults_->run(a);
     }
     std::string run_step(const Reset&) {
         core().reset();  // parts re-arm through their reset listeners; EEPROM and plant keep their state
@@ -557,6 +511,10 @@ private:
             vcd_->finish();
             write_file_atomic(out_dir_ / "failure_window.vcd", vcd_text_);
         }
+        const plant::World& world = rig_->world();
+        if (!world.lines.empty() || !world.walls.empty()) {
+            write_file_atomic(out_dir_ / "world.json", world_json(world).dump(2) + "\n");
+        }
         write_file_atomic(out_dir_ / "result.json", result.dump(2) + "\n");
     }
 
@@ -575,6 +533,7 @@ private:
     std::optional<hil::VcdRecorder> vcd_;
     std::optional<TruthOutput> truth_;
     std::optional<RigSignals> signals_;
+    std::optional<FaultSteps> faults_;  ///< after the session: it holds it
     bool armed_ = false;
     TextWindow text_{kSerialWindowBytes};  ///< the received text's end (uart.txt has it all)
     TextWindow line_{kSerialWindowBytes};  ///< the line being received, without \r

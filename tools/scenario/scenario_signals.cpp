@@ -113,6 +113,10 @@ std::string RigSignals::expect_stats(const ExpectStats& e) const {
     if (st.n < e.min_samples) fail(fmt::format("expected at least {} samples", e.min_samples));
     if (e.rms_max && rms > *e.rms_max) fail(fmt::format("expected rms <= {:.6g}", *e.rms_max));
     if (e.abs_max && abs_max > *e.abs_max) fail(fmt::format("expected |{}| <= {:.6g}", e.signal, *e.abs_max));
+    if (e.range.set() && !(e.range.contains(st.min) && e.range.contains(st.max))) {
+        fail(fmt::format("expected every sample in [{:.6g}, {:.6g}]", e.range.min.value_or(-INFINITY),
+                         e.range.max.value_or(INFINITY)));
+    }
     if (e.mean.set() && !e.mean.contains(mean)) {
         fail(fmt::format("expected the mean in [{:.6g}, {:.6g}]", e.mean.min.value_or(-INFINITY),
                          e.mean.max.value_or(INFINITY)));

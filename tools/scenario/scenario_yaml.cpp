@@ -299,6 +299,20 @@ void read_steps(const Ctx& top, const YAML::Node& root, Scenario& s) {
     }
 }
 
+/// Each move-obstacle names an obstacle of the scenario's world.
+void check_obstacle_names(const Scenario& s) {
+    for (const Step& step : s.steps) {
+        const auto* m = std::get_if<MoveObstacle>(&step.action);
+        if (m == nullptr || plant::find_obstacle(s.world, m->name)) continue;
+        std::string names;
+        for (const std::string& n : s.world.obstacles) names += (names.empty() ? "" : ", ") + n;
+        throw ScenarioError(fmt::format("{}:{}: key 'move-obstacle.name': the world has no obstacle '{}' ({})",
+                                        s.file.string(), step.line, m->name,
+                                        names.empty() ? "a wall is one when the world file gives it a name"
+                                                      : "its obstacles: " + names));
+    }
+}
+
 }  // namespace
 
 Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const LoadOptions& options) {
@@ -322,6 +336,7 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     if (root["eeprom"]) s.eeprom_preload = existing_file(top.at(root["eeprom"], "eeprom"));
     read_plant(top, root, s);
     read_steps(top, root, s);
+    check_obstacle_names(s);
     return s;
 }
 

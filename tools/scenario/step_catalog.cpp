@@ -48,8 +48,8 @@ const std::vector<StepInfo>& step_catalog() {
          "expect: {signal: x_m, between: [-1, 1]}"},
         {"measure", "{signal}", "from now on, collect the signal's truth samples (1 ms) for expect-stats",
          "measure: {signal: line_offset_m}"},
-        {"expect-stats", "{signal, rms_max, abs_max, mean, min_samples}",
-         "the signal's samples since its measure step: rms, largest magnitude, mean [A, B]",
+        {"expect-stats", "{signal, rms_max, abs_max, mean, range, min_samples}",
+         "the signal's samples since its measure step: rms, largest magnitude, mean [A, B], every sample in [A, B]",
          "expect-stats: {signal: line_offset_m, rms_max: 0.006, abs_max: 0.015}"},
         {"inject", "{encoder, drop, for}", "the Hall sensor misses each edge with a probability (seeded)",
          "inject: {encoder: right, drop: 0.1, for: 1s}"},
@@ -61,6 +61,9 @@ const std::vector<StepInfo>& step_catalog() {
          "the robot is displaced (at once, or evenly over `over`); odometry does not see it", "push: {dx_m: 0.01}"},
         {"place", "{x_m, y_m, heading_deg}", "the robot is set down at this pose; odometry does not see it",
          "place: {x_m: 0.5, y_m: 0, heading_deg: 90}"},
+        {"move-obstacle", "{name, dx_m, dy_m, over}",
+         "a named obstacle of the world moves by (dx_m, dy_m), at once or evenly over `over`",
+         "move-obstacle: {name: box, dy_m: 0.3, over: 1s}"},
         {"reset", "(no value) | {}", "AVR reset, as by the RESET pin; the robot keeps moving", "reset"},
     };
     return steps;

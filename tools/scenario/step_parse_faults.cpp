@@ -1,5 +1,5 @@
-// The steps that inject faults into the robot (step_parsers.hpp): inject, stall,
-// battery, slip, push, reset.
+// The steps that inject faults into the robot or change its world
+// (step_parsers.hpp): inject, stall, battery, slip, push, place, move-obstacle, reset.
 #include "scenario/step_parsers.hpp"
 
 namespace ddmr::tools::scenario::yaml {
@@ -37,6 +37,15 @@ std::optional<StepAction> parse_fault_step(const std::string& kind, const Ctx& c
         return Place{c.child("x_m").number_in(-1000, 1000, "[-1000, 1000] m"),
                      c.child("y_m").number_in(-1000, 1000, "[-1000, 1000] m"),
                      c.child("heading_deg").number_in(-3600, 3600, "[-3600, 3600] degrees")};
+    }
+    if (kind == "move-obstacle") {
+        c.keys({"name", "dx_m", "dy_m", "over"}, {"name"});
+        MoveObstacle m;
+        m.name = c.child("name").str();
+        if (c.has("dx_m")) m.dx_m = c.child("dx_m").number_in(-100, 100, "[-100, 100] m");
+        if (c.has("dy_m")) m.dy_m = c.child("dy_m").number_in(-100, 100, "[-100, 100] m");
+        if (c.has("over")) m.over = c.child("over").duration();
+        return m;
     }
     if (kind == "reset") {
         if (!c.node().IsNull() && !(c.node().IsMap() && c.node().size() == 0)) c.fail("takes no value");

@@ -50,14 +50,17 @@ std::optional<StepAction> parse_plant_step(const std::string& kind, const Ctx& c
         return Measure{plant_signal_name(c.child("signal"))};
     }
     if (kind == "expect-stats") {
-        c.keys({"signal", "rms_max", "abs_max", "mean", "min_samples"}, {"signal"});
+        c.keys({"signal", "rms_max", "abs_max", "mean", "range", "min_samples"}, {"signal"});
         ExpectStats e;
         e.signal = plant_signal_name(c.child("signal"));
         if (c.has("rms_max")) e.rms_max = c.child("rms_max").number_in(0, 1e12, "[0, 1e12]");
         if (c.has("abs_max")) e.abs_max = c.child("abs_max").number_in(0, 1e12, "[0, 1e12]");
         if (c.has("mean")) e.mean = min_max_pair(c.child("mean"));
+        if (c.has("range")) e.range = min_max_pair(c.child("range"));
         if (c.has("min_samples")) e.min_samples = c.child("min_samples").count();
-        if (!e.rms_max && !e.abs_max && !e.mean.set()) c.fail("give at least one of rms_max, abs_max, mean");
+        if (!e.rms_max && !e.abs_max && !e.mean.set() && !e.range.set()) {
+            c.fail("give at least one of rms_max, abs_max, mean, range");
+        }
         return e;
     }
     if (kind == "expect") {
