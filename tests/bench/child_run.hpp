@@ -1,12 +1,16 @@
 #pragma once
-// A child process for the benchmarks: its exit status, wall time and peak
-// resident set (the CLI run as users run it).
+// What the benchmarks that run the CLI share: a child process (its exit
+// status, wall time and peak resident set), a scratch folder, a file written.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,5 +45,24 @@ inline ChildRun run_child(std::vector<std::string> args) {
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
 }
+
+/// A scratch folder for one benchmark's outputs, removed afterwards.
+struct ScratchDir {
+    std::filesystem::path path;
+    ScratchDir() {
+        std::string pattern = (std::filesystem::temp_directory_path() / "ddmr-bench-XXXXXX").string();
+        if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+        path = pattern;
+    }
+    ~ScratchDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+};
+
+/// Writes `text` to `path`.
+inline void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 }  // namespace ddmr::bench

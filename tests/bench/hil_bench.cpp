@@ -64,6 +64,11 @@
 
 namespace {
 
+using ddmr::bench::ChildRun;
+using ddmr::bench::run_child;
+using ddmr::bench::ScratchDir;
+using ddmr::bench::write_text;
+
 using namespace ddmr;
 using hil::Cycles;
 
@@ -132,20 +137,6 @@ void BM_FullHilCase1(benchmark::State& state) {
                                                          benchmark::Counter::kIsRate);
 }
 
-/// A scratch folder for one benchmark's outputs, removed afterwards.
-struct ScratchDir {
-    std::filesystem::path path;
-    ScratchDir() {
-        std::string pattern = (std::filesystem::temp_directory_path() / "ddmr-bench-XXXXXX").string();
-        if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-        path = pattern;
-    }
-    ~ScratchDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-};
-
 void run_case1(benchmark::State& state, bool profile, bool vcd, hil::SessionInstruments instruments = {}) {
     Cycles cycles = 0;
     for (auto _ : state) {
@@ -186,11 +177,6 @@ void BM_ShippedScenarioSuite(benchmark::State& state) {
     }
 }
 
-using ddmr::bench::ChildRun;
-using ddmr::bench::run_child;
-
-/// Writes `text` to `path`.
-void write_text(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 void BM_ScenarioThroughput(benchmark::State& state) {
     const auto jobs = state.range(0);

@@ -26,18 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ScratchDir {
-    fs::path path;
-    ScratchDir() : path(fs::temp_directory_path() / ("ddmr-world-bench-" + std::to_string(::getpid()))) {
-        fs::create_directories(path);
-    }
-    ~ScratchDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
-void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+using ddmr::bench::ScratchDir;
+using ddmr::bench::write_text;
 
 std::string board_yaml() {
     return "board: uno\n"
