@@ -21,6 +21,8 @@ using atmega328p::bit_set;
 
 /// simavr 1.6 keeps ADC0..ADC7 only (avr_adc_t::adc_values[8]).
 constexpr int kSimavrChannels = 8;
+/// ADC8..ADC15 (ATmega2560 2549Q section 26.8.1, Table 26-4).
+constexpr int kHighChannels = 16;
 /// The largest code, VREF - 1 LSB (section 24.7).
 constexpr uint16_t kMaxCode = 1023;
 /// ADCSRA bits (section 24.9.2).
@@ -28,6 +30,22 @@ constexpr int kAden = 7;
 constexpr unsigned kAdpsMask = 0x07;
 /// ADMUX REFS1:0 (section 24.9.1).
 constexpr unsigned kRefsShift = 6;
+
+/// simavr's ADC module of `avr` (its io list; avr_io_t is avr_adc_t's first member).
+avr_adc_t* simavr_adc(avr_t* avr) {
+    for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
+        if (io->kind != nullptr && std::strcmp(io->kind, "adc") == 0) return reinterpret_cast<avr_adc_t*>(io);
+    }
+    return nullptr;
+}
+
+/// The channel a conversion selected: ADC0..7 as simavr reports them, ADC8..15
+/// from the entries claim_high_channels rewrote; -1 for anything else.
+int selected_channel(const avr_adc_mux_t& mux) {
+    if (mux.kind == ADC_MUX_SINGLE && mux.src < kSimavrChannels) return static_cast<int>(mux.src);
+    if (mux.kind == ADC_MUX_REF && mux.diff >= kSimavrChannels) return static_cast<int>(mux.diff);
+    return -1;
+}
 
 uint32_t to_mv(double volts) { return static_cast<uint32_t>(std::lround(volts * 1000.0)); }
 
@@ -75,6 +93,7 @@ AdcInput::AdcInput(AvrCore& core, const AdcSupply& supply) : core_(core), supply
     avr_irq_register_notify(trigger_, &AdcInput::on_trigger, this);
     avr_irq_register_notify(adcsra_, &AdcInput::on_adcsra, this);
     aden_ = bit_set(core_.data(core_.mcu().adc.adcsra), kAden);
+    if (core_.mcu().adc.channels > kSimavrChannels) claim_high_channels();
     samples_.reserve(kRecordedSamples);
     core_.add_reset_listener(this, [this] {
         // avr_reset clears ADCSRA (ADEN off) and cancels the sample timer.
@@ -91,16 +110,31 @@ AdcInput::~AdcInput() {
     avr_irq_unregister_notify(adcsra_, &AdcInput::on_adcsra, this);
 }
 
+void AdcInput::claim_high_channels() {
+    avr_adc_t* adc = simavr_adc(core_.raw());
+    if (adc == nullptr) throw std::runtime_error(std::string("AdcInput: simavr's ") + core_.mcu().label + " core has no ADC");
+    for (avr_adc_mux_t& entry : adc->muxmode) {
+        if (entry.kind != ADC_MUX_SINGLE || entry.src < kSimavrChannels || entry.src >= kHighChannels) continue;
+        const auto channel = static_cast<unsigned>(entry.src);
+        entry.kind = ADC_MUX_REF;  // simavr converts src [mV] as it is
+        entry.diff = channel;      // unused by a reference entry: marks the channel
+        entry.src = 0;
+        high_[channel - kSimavrChannels] = &entry;
+    }
+    for (int n = kSimavrChannels; n < core_.mcu().adc.channels; ++n) {
+        if (high_[static_cast<std::size_t>(n - kSimavrChannels)] == nullptr) {
+            throw std::runtime_error(
+                fmt::format("AdcInput: simavr's {} core has no mux entry for ADC{}", core_.mcu().label, n));
+        }
+    }
+}
+
 int AdcInput::channel_of(const BoardDescription& board, int pin) {
     const int analog_pins = board.pin_count() - board.analog0 + static_cast<int>(board.analog_only.size());
     const int channel = pin - board.analog0;
     if (channel < 0 || channel >= analog_pins || channel >= board.mcu->adc.channels) {
         throw std::invalid_argument(fmt::format("pin {} of the {} has no ADC input (analog pins A0..A{})", pin,
                                                 board.label, analog_pins - 1));
-    }
-    if (channel >= kSimavrChannels) {
-        throw std::invalid_argument(fmt::format("pin A{} (ADC{}) of the {}: simavr 1.6 converts only ADC0..ADC7", channel,
-                                                channel, board.label));
     }
     return channel;
 }
@@ -134,8 +168,8 @@ void AdcInput::on_trigger(avr_irq_t* /*irq*/, uint32_t value, void* param) {
     const bool first = self->next_first_ || !self->aden_;
     self->next_first_ = false;
     self->aden_ = true;
-    if (mux.kind != ADC_MUX_SINGLE || mux.src >= kSimavrChannels) return;
-    const auto channel = static_cast<int>(mux.src);
+    const int channel = selected_channel(mux);
+    if (channel < 0) return;
     if (!self->volts_[static_cast<std::size_t>(channel)]) return;
     // Sample-and-hold 1.5 ADC clocks after the start, 13.5 for a first
     // conversion (Table 24-1); the ADC clock is F_CPU / 2^ADPS (ADPS 0 -> /2).
@@ -186,7 +220,12 @@ void AdcInput::sample(int channel, Cycles start, Cycles at) {
     uint32_t vref_mv = 0;
     reference(s.vref_v, vref_mv);
     s.code = datasheet_code(s.vin_v, s.vref_v);
-    avr_raise_irq(inputs_[static_cast<std::size_t>(channel)], simavr_input_mv(s.code, vref_mv));
+    const uint32_t mv = simavr_input_mv(s.code, vref_mv);
+    if (channel < kSimavrChannels) {
+        avr_raise_irq(inputs_[static_cast<std::size_t>(channel)], mv);
+    } else {
+        high_[static_cast<std::size_t>(channel - kSimavrChannels)]->src = mv;  // read back at ADCL
+    }
     ++conversions_;
     if (samples_.size() < kRecordedSamples) samples_.push_back(s);
 }

@@ -30,8 +30,14 @@
 //        (not * 1024): the driver gives it the millivolts that make simavr's
 //        formula return the datasheet's code.
 //   out  avr_t::avcc and avr_t::aref [mV]: the supply and the AREF voltage.
-// simavr 1.6 keeps only ADC0..ADC7 (avr_adc_t::adc_values[8]): the
-// ATmega2560's A8..A15 cannot be converted, and are refused.
+// simavr 1.6 keeps only ADC0..ADC7 (avr_adc_t::adc_values[8]): its ATmega2560
+// table selects ADC8..ADC15 (MUX5 = 1, MUX4:0 = 0..7) but converts whatever
+// lies past that array. The driver restores them: it turns those eight
+// entries of simavr's mux table (avr_adc_t::muxmode, declared in avr_adc.h)
+// into "reference" entries, whose value simavr converts as it is, keeps the
+// channel in the entry's unused `diff` field, and writes the sampled
+// millivolts into the entry's `src` at the sample instant. The 2560's
+// differential inputs are not converted (no Arduino core uses them).
 // Not thread-safe (like AvrCore). Construct after the AvrCore, destroy before.
 
 #include <array>
@@ -43,6 +49,7 @@
 #include "hil/board_description.hpp"
 
 struct avr_irq_t;
+struct avr_adc_mux_t;
 
 namespace ddmr::hil {
 
@@ -78,8 +85,7 @@ public:
     AdcInput& operator=(const AdcInput&) = delete;
 
     /// The ADC channel (n of ADCn) of board pin `pin` (A0 = channel 0).
-    /// Throws std::invalid_argument naming the pin when it has no ADC input,
-    /// or when simavr 1.6 cannot convert it (ADC8..ADC15).
+    /// Throws std::invalid_argument naming the pin when it has no ADC input.
     [[nodiscard]] static int channel_of(const BoardDescription& board, int pin);
 
     /// A constant voltage on analog pin `pin` [V].
@@ -103,11 +109,14 @@ private:
     /// The reference [V] REFS1:0 select now, and the one simavr divides by [mV].
     void reference(double& vref_v, uint32_t& simavr_mv) const;
     void sample(int channel, Cycles start, Cycles at);
+    /// Takes over simavr's mux-table entries of ADC8..ADC15 (see above).
+    void claim_high_channels();
 
     AvrCore& core_;
     AdcSupply supply_;
-    std::array<VoltageFn, 8> volts_{};      ///< per ADC channel simavr converts
+    std::array<VoltageFn, 16> volts_{};     ///< per ADC channel
     std::array<avr_irq_t*, 8> inputs_{};    ///< ADC_IRQ_ADC0..7
+    std::array<avr_adc_mux_t*, 8> high_{};  ///< simavr's mux entries of ADC8..15
     avr_irq_t* trigger_ = nullptr;
     avr_irq_t* adcsra_ = nullptr;
     bool aden_ = false;        ///< ADEN as last seen

@@ -176,6 +176,13 @@ nlohmann::ordered_json type_clause(const PartType& type) {
     for (const PartKey& k : type.keys) props[k.name] = key_schema(k);
     then["properties"] = props;
     then["additionalProperties"] = false;
+    for (const PartKey& k : type.keys) {
+        // A part on a carrier takes its place from it (hil/parts/sensor_mount.cpp, check_mount).
+        if (k.kind != PartKeyKind::carrier) continue;
+        nlohmann::ordered_json placed = nlohmann::ordered_json::array();
+        for (const char* own : {"x_mm", "y_mm", "heading_deg"}) placed.push_back({{"required", {own}}});
+        then["dependentSchemas"][k.name] = {{"not", {{"anyOf", placed}}}};
+    }
     nlohmann::ordered_json clause;
     clause["if"] = {{"properties", {{"type", {{"const", type.type}}}}}, {"required", {"type"}}};
     clause["then"] = then;

@@ -49,6 +49,12 @@ int PartContext::input_pin(const std::string& key) const {
     return v.pin;
 }
 
+std::optional<int> PartContext::wired_pin(const std::string& key) const {
+    const PartEntry::Value& v = value_of(entry_, key);
+    if (v.pin < 0) return std::nullopt;
+    return v.pin;
+}
+
 int PartContext::output_pin(const std::string& key) const { return value_of(entry_, key).pin; }
 
 const std::string& PartContext::text(const std::string& key) const { return value_of(entry_, key).text; }

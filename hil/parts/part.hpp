@@ -112,6 +112,9 @@ public:
     /// std::invalid_argument naming the part and key when the board file
     /// wired it to another part's output or to high/low.
     [[nodiscard]] int input_pin(const std::string& key) const;
+    /// The board pin input `key` is wired to, or nullopt when it is wired to
+    /// another part's output or to high/low.
+    [[nodiscard]] std::optional<int> wired_pin(const std::string& key) const;
     /// The board pin of output `key`.
     [[nodiscard]] int output_pin(const std::string& key) const;
     /// An option's text, or a numeric option's value.

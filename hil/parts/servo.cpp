@@ -8,6 +8,11 @@
 //     degrees at 4.8 V, 600 deg/s [SG90]);
 //   - a change of less than the dead band (SG90: 10 us) is ignored;
 //   - when the pulses stop, it holds its position (unverified);
+//   - the pulses may come from port writes (the Servo library's interrupt,
+//     a digitalWrite loop) or from a timer's compare output (OC1A in fast
+//     PWM with ICR1 as TOP, for example): a pin with an OC unit is decoded by
+//     PinWaveforms, and while the unit drives it the pulse width is the
+//     waveform's high time per period, read at each coupling step;
 //   - at power-on it stands at `start_deg`.
 // Its angle is a truth column; 90 degrees points along the mount's
 // heading_deg (0 degrees is to its right, 180 to its left, as a servo seen
@@ -19,6 +24,7 @@
 #include <memory>
 
 #include "hil/cycle_time.hpp"
+#include "hil/pin_waveforms.hpp"
 #include "hil/parts/builtin_parts.hpp"
 #include "hil/parts/sensor_mount.hpp"
 #include "plant/units.hpp"
@@ -33,6 +39,24 @@ public:
           slew_deg_s_(ctx.number("slew_deg_s")), dead_band_us_(ctx.number("dead_band_us")),
           from_deg_(ctx.number("start_deg")), target_deg_(from_deg_), axis_(mount_of(ctx, true)), none_(ctx.name()) {
         ctx.input("SIGNAL").add_listener([this](bool level, Cycles cycle) { on_signal(level, cycle); });
+        const std::optional<int> pin = ctx.wired_pin("SIGNAL");
+        if (pin && board_pin(core_.board(), *pin)->oc) {
+            pin_ = *pin;
+            oc_.emplace(core_, std::vector<int>{pin_});
+        }
+    }
+
+    /// A pulse the pin's OC unit makes: its high time per period.
+    void on_plant_step(Cycles cycle) override {
+        if (!oc_) return;
+        oc_->advance_to(cycle);
+        if (!oc_->timer_driven(pin_)) return;
+        const TimerOutputDecoder* timer = oc_->timer_of(pin_);
+        const int channel = board_pin(core_.board(), pin_)->oc->channel;
+        const Cycles period = timer->period_cycles(channel);
+        if (period == 0) return;  // a constant level: no pulses, the horn holds
+        const double high_cycles = oc_->duty(pin_) * static_cast<double>(period);
+        apply_width(cycles_to_s(static_cast<Cycles>(std::llround(high_cycles)), core_.clock_hz()) * 1e6, cycle);
     }
 
     const LogicSignal& output(const std::string& /*port*/) const override { return none_; }
@@ -63,7 +87,11 @@ private:
             rise_ = cycle;
             return;
         }
-        const double width_us = cycles_to_s(cycle - rise_, core_.clock_hz()) * 1e6;
+        apply_width(cycles_to_s(cycle - rise_, core_.clock_hz()) * 1e6, cycle);
+    }
+
+    /// A pulse of `width_us` ended at `cycle`: the horn turns toward its angle.
+    void apply_width(double width_us, Cycles cycle) {
         if (std::fabs(width_us - last_pulse_us_) < dead_band_us_) return;
         last_pulse_us_ = width_us;
         from_deg_ = angle_deg(cycle);
@@ -80,6 +108,8 @@ private:
     double last_pulse_us_ = 0.0;
     SensorMount axis_;
     DrivenSignal none_;
+    int pin_ = -1;
+    std::optional<PinWaveforms> oc_;  ///< the SIGNAL pin's waveform, when it has an OC unit
 };
 
 std::optional<PartKeyProblem> check(const PartEntry& e, const BoardDescription& /*board*/) {

@@ -108,7 +108,37 @@ TEST(AdcInput, ChannelsOfTheBoardsPins) {
     EXPECT_EQ(hil::AdcInput::channel_of(mega, 61), 7);
     expect_refused(uno, 13, "pin 13 of the Arduino Uno has no ADC input");
     expect_refused(uno, 20, "pin 20");
-    expect_refused(mega, 62, "simavr 1.6 converts only ADC0..ADC7");  // A8
+    EXPECT_EQ(hil::AdcInput::channel_of(mega, 62), 8);   // A8 = ADC8 (MUX5)
+    EXPECT_EQ(hil::AdcInput::channel_of(mega, 69), 15);  // A15
+    expect_refused(mega, 70, "pin 70 of the Arduino Mega 2560 has no ADC input (analog pins A0..A15)");
+}
+
+TEST(AdcInput, TheMegasADC8ToADC15AreConverted) {
+    // simavr 1.6 alone converts what lies past its adc_values[8] for these.
+    FixtureCore f{"adc_fixture_atmega2560", hil::BoardModel::mega2560};
+    hil::AdcInput adc{f.core};
+    constexpr int kMegaA0 = 54;
+    constexpr int kMegaA8 = 62;
+    adc.set_voltage(kMegaA0, 2.001);    // 2.001 * 1024 / 5 = 409.8 -> 409
+    adc.set_voltage(kMegaA8 + 0, 1.0);  // 1.0 * 1024 / 5 = 204.8 -> 204
+    adc.set_voltage(kMegaA8 + 1, 2.5);  // 512
+    adc.set_voltage(kMegaA8 + 2, 5.0);  // 1023
+    adc.set_voltage(kMegaA8 + 3, 0.0);  // 0
+    adc.set_voltage(kMegaA8 + 5, 3.3);  // 675.84 -> 675 (A12 = ADC12 has none)
+    // A round: 13 conversions of 1664 cycles (the first 3200) and the loop.
+    ASSERT_TRUE(f.run_until_u8("rounds", 2, 2 * 30'000));
+    EXPECT_EQ(f.u16("codes", 0), 409u);
+    EXPECT_EQ(f.u16("codes_high", 0), 204u);
+    EXPECT_EQ(f.u16("codes_high", 1), 512u);
+    EXPECT_EQ(f.u16("codes_high", 2), 1023u);
+    EXPECT_EQ(f.u16("codes_high", 3), 0u);
+    EXPECT_EQ(f.u16("codes_high", 5), 675u);
+    // REFS1:0 = 11 is 2.56 V on the 2560 (Table 26-3): 2.001 * 1024 / 2.56 = 800.4.
+    EXPECT_EQ(f.u16("code_1v1"), 800u);
+    // Each conversion was recorded on its own channel.
+    bool saw_adc13 = false;
+    for (const auto& s : adc.samples()) saw_adc13 = saw_adc13 || s.channel == 13;
+    EXPECT_TRUE(saw_adc13);
 }
 
 TEST(AdcInput, RefusesASupplyOutsideTheDatasheet) {

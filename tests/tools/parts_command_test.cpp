@@ -223,6 +223,17 @@ TEST(PartsDocs, TheBoardSchemaChecksParts) {
         EXPECT_EQ(r.exit_code, 1) << entry << r.out << r.err;
         EXPECT_NE(r.out.find(f.string() + ": parts/0"), std::string::npos) << entry << r.out;
     }
+    // A sensor on a servo's horn takes its place from the servo: its own x_mm is refused.
+    const std::string pan = "board: uno\nparts:\n  - {name: pan, type: servo, SIGNAL: 9, x_mm: 60}\n";
+    std::ofstream(dir / "mounted.yaml") << pan << "  - {name: s, type: ultrasonic, TRIG: 7, ECHO: 8, mount: pan}\n"
+                                        << wheels;
+    r = validate(dir / "mounted.yaml");
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    std::ofstream(dir / "placed_twice.yaml")
+        << pan << "  - {name: s, type: ultrasonic, TRIG: 7, ECHO: 8, mount: pan, x_mm: 50}\n" << wheels;
+    r = validate(dir / "placed_twice.yaml");
+    EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("parts/1"), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -14,10 +14,11 @@ namespace {
 
 struct ServoRig {
     TempDir dir;
-    FixtureCore fx{"servo_fixture"};
+    FixtureCore fx;
     hil::PartSet parts;
-    explicit ServoRig(const std::string& entry, const plant::World* world = nullptr)
-        : parts(fx.core, uno_with_parts(dir, entry).parts, hil::PartRegistry::global(), [] { return plant::Pose{}; },
+    explicit ServoRig(const std::string& entry, const plant::World* world = nullptr,
+                      const std::string& fixture = "servo_fixture")
+        : fx(fixture), parts(fx.core, uno_with_parts(dir, entry).parts, hil::PartRegistry::global(), [] { return plant::Pose{}; },
                 world) {}
     /// Pulses of `us` microseconds (0.5 us ticks) from now.
     void send_us(double us) {
@@ -27,6 +28,13 @@ struct ServoRig {
         fx.core.raw()->data[fx.address("pulse_ticks") + 1] = static_cast<uint8_t>(ticks >> 8);
     }
     void run_ms(double ms) { fx.core.run_until(fx.core.cycle() + hil::ms_to_cycles(ms, fx.core.clock_hz())); }
+    /// Runs `ms` in plant steps of 1 ms.
+    void step_ms(int ms) {
+        for (int i = 0; i < ms; ++i) {
+            run_ms(1.0);
+            parts.on_plant_step(fx.core.cycle());
+        }
+    }
 };
 
 const std::string kServo = "  - {name: pan, type: servo, SIGNAL: 9}\n";
@@ -76,6 +84,33 @@ TEST(Servo, IgnoresChangesInsideItsDeadBandAndHoldsWhenThePulsesStop) {
     rig.send_us(0);  // no more pulses
     rig.run_ms(100);
     EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.angle_deg"), held);
+}
+
+TEST(Servo, FollowsPulsesFromATimersCompareOutput) {
+    // OC1A in fast PWM, TOP = ICR1 = 39999 at /8: a 20 ms period, high for
+    // OCR1A + 1 ticks of 8 cycles. 2400 us = 4800 ticks: OCR1A = 4799, the
+    // width exactly 2400 us: 180 degrees after (180 - 90) / 600 s = 150 ms.
+    ServoRig rig(kServo, nullptr, "servo_fixture_oc");
+    rig.send_us(2400);
+    rig.step_ms(200);
+    EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.pulse_us"), 2400.0);
+    EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.angle_deg"), 180.0);
+    // 1000 us: (1000 - 544) / 1856 x 180 = 44.224 degrees, 226 ms later.
+    rig.send_us(1000);
+    rig.step_ms(100);
+    // Turning: OCR1A is double-buffered (updated at TOP), so the new width
+    // starts up to one 20 ms period after the write, seen at the next 1 ms
+    // step: 180 - 600 x (0.100 - 0.021 .. 0.100) degrees.
+    const double turning = truth_value(rig.parts, "pan.angle_deg");
+    EXPECT_GE(turning, 180.0 - 600.0 * 0.100);
+    EXPECT_LE(turning, 180.0 - 600.0 * 0.079);
+    rig.step_ms(200);
+    EXPECT_DOUBLE_EQ(truth_value(rig.parts, "pan.pulse_us"), 1000.0);
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), (1000.0 - 544.0) / 1856.0 * 180.0, 1e-9);
+    // OC1A switched off: no pulses, the horn holds.
+    rig.send_us(0);
+    rig.step_ms(100);
+    EXPECT_NEAR(truth_value(rig.parts, "pan.angle_deg"), (1000.0 - 544.0) / 1856.0 * 180.0, 1e-9);
 }
 
 /// A wall along y = 0.10 m, 0.1 m to the robot's left: an FC-51 module set to
