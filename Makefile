@@ -107,7 +107,7 @@ bench: build
 # never cached). LINT_CACHE=0 runs clang-tidy on every file.
 LINT_CACHE ?= 1
 LINT_TIDY = $(if $(filter 0,$(LINT_CACHE)),clang-tidy,/usr/bin/python3 tools/cached_clang_tidy.py --source-root=$(CURDIR))
-LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp hil/parts/*.cpp tools/*.cpp tools/calibrate/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp)
+LINT_SOURCES = $(wildcard plant/*.cpp hil/*.cpp hil/parts/*.cpp tools/*.cpp tools/calibrate/*.cpp tools/common/*.cpp tools/scenario/*.cpp tools/hostsim/*.cpp tools/python/*.cpp)
 lint: configure
 	@cmake -S . -B $(BUILD) >/dev/null  # compile_commands.json up to date with new sources
 	sh tools/check_file_sizes.sh 600 plant hil tools

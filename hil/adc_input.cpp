@@ -117,7 +117,7 @@ void AdcInput::claim_high_channels() {
         if (entry.kind != ADC_MUX_SINGLE || entry.src < kSimavrChannels || entry.src >= kHighChannels) continue;
         const auto channel = static_cast<unsigned>(entry.src);
         entry.kind = ADC_MUX_REF;  // simavr converts src [mV] as it is
-        entry.diff = channel;      // unused by a reference entry: marks the channel
+        entry.diff = channel & 0xFFU;  // unused by a reference entry: marks the channel
         entry.src = 0;
         high_[channel - kSimavrChannels] = &entry;
     }
@@ -224,7 +224,8 @@ void AdcInput::sample(int channel, Cycles start, Cycles at) {
     if (channel < kSimavrChannels) {
         avr_raise_irq(inputs_[static_cast<std::size_t>(channel)], mv);
     } else {
-        high_[static_cast<std::size_t>(channel - kSimavrChannels)]->src = mv;  // read back at ADCL
+        // Read back at ADCL; the 13-bit field holds up to 8191 mV (AVCC <= 5.5 V).
+        high_[static_cast<std::size_t>(channel - kSimavrChannels)]->src = mv & 0x1FFFU;
     }
     ++conversions_;
     if (samples_.size() < kRecordedSamples) samples_.push_back(s);

@@ -16,6 +16,9 @@ namespace {
 
 using atmega328p::bit_set;
 
+/// CSn2:0 in TCCRnB: 0 stops the timer's clock (every timer here).
+constexpr unsigned kClockSelectMask = 0x07;
+
 uint16_t read16(const AvrCore& core, uint16_t low, uint16_t high) {
     if (low == 0) return 0;
     uint16_t v = core.data(low);
@@ -73,6 +76,14 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
             if (a != 0) watch(a, &timer_hook_[t]);
         }
         last_regs_[t] = read_timer(core_, d);
+        if ((last_regs_[t].tccrb & kClockSelectMask) != 0) {
+            // Watched from a running timer on (a query mid-run): its OCR
+            // buffers are already in effect on the chip. Take them as a
+            // stopped timer takes them (at once), then start its clock.
+            TimerRegisters stopped = last_regs_[t];
+            stopped.tccrb = static_cast<uint8_t>(stopped.tccrb & ~kClockSelectMask);
+            (void)timer_[t]->on_write(core_.cycle(), stopped, false);
+        }
         (void)timer_[t]->on_write(core_.cycle(), last_regs_[t], false);
     }
     sample_ports();

@@ -90,7 +90,7 @@ void ContractWatch::on_host_byte(char c, hil::Cycles /*cycle*/) {
             field_line_.push_back(c);
         }
     }
-    if (start_watch_.feed(c)) session_.post(on_start_cue_);  // the start text goes out now
+    if (start_watch_.feed(c) && driving_) session_.post(on_start_cue_);  // the start text goes out now
     if (pose_watch_.feed(c) && !pose_) read_pose();
     if (unity_) {
         std::fputc(c, stdout);  // pio test reads Unity's lines from stdout as they come
@@ -98,7 +98,7 @@ void ContractWatch::on_host_byte(char c, hil::Cycles /*cycle*/) {
         if (!done_ && unity_watch_.feed(c)) {
             done_ = true;
             unity_summary_ = unity_watch_.summary();
-            session_.end_after(session_.rig().uart().cycles_per_byte());  // the last byte has left the wire
+            if (driving_) session_.end_after(session_.rig().uart().cycles_per_byte());  // the last byte has left the wire
         }
     }
     watch_completion(c);
@@ -114,7 +114,7 @@ void ContractWatch::watch_completion(char c) {
     }
     if (done_watch_.seen() && lines_to_go_ <= 0) {
         done_ = true;
-        session_.end_after(session_.rig().uart().cycles_per_byte());  // the last byte has left the wire
+        if (driving_) session_.end_after(session_.rig().uart().cycles_per_byte());  // the last byte has left the wire
     }
 }
 
@@ -123,10 +123,10 @@ void ContractWatch::feed_report(char c) {
     parser_.feed(std::string_view(&c, 1));
     if (was_done) return;
     if (parser_.error()) {
-        session_.end_run();
+        if (driving_) session_.end_run();
     } else if (parser_.complete() && plan_.contract_completes && plan_.contract->complete->report) {
         done_ = true;
-        session_.end_after(session_.rig().uart().cycles_per_byte());  // the last byte has left the wire
+        if (driving_) session_.end_after(session_.rig().uart().cycles_per_byte());  // the last byte has left the wire
     }
 }
 

@@ -44,6 +44,9 @@ public:
                   std::function<void()> on_start_cue);
 
     void on_host_byte(char c, hil::Cycles cycle) override;
+    /// Whether the start cue and the completion act on the session (default
+    /// on); off, they are only noted (a front end drives the run itself).
+    void set_driving(bool driving) { driving_ = driving; }
     /// A last line without '\n' is matched against the report fields.
     void finish();
 
@@ -77,6 +80,7 @@ private:
     std::optional<UnitySummary> unity_summary_;
     int lines_to_go_ = 0;  ///< lines-after: the end of the text's own line, then that many more
     bool done_ = false;
+    bool driving_ = true;
     std::optional<hil::Variable> pose_x_, pose_y_, pose_theta_;
     std::optional<plant::Pose> pose_;
     std::vector<std::regex> field_patterns_;

@@ -9,7 +9,6 @@
 #include <functional>
 #include <stdexcept>
 
-#include "callgrind_output.hpp"
 #include "common/atomic_file.hpp"
 #include "common/firmware_diagnostics.hpp"
 #include "common/truth_csv.hpp"
@@ -18,19 +17,18 @@
 #include "exit_codes.hpp"
 #include "firmware_run_json.hpp"
 #include "firmware_run_plan.hpp"
-#include "function_profile_output.hpp"
 #include "hil/eeprom_log.hpp"
 #include "hil/function_profiler.hpp"
 #include "hil/loop_tracer.hpp"
 #include "hil/session.hpp"
 #include "hil/vcd_recorder.hpp"
-#include "profile_lines.hpp"
-#include "race_report.hpp"
+#include "run_outputs.hpp"
 #include "session_outputs.hpp"
 
 namespace ddmr::tools {
 namespace {
 
+namespace fs = std::filesystem;
 using hil::Cycles;
 using nlohmann::json;
 
@@ -47,23 +45,6 @@ RunExit run_exit_of(hil::FailureKind kind) {
     return RunExit::kCrashed;
 }
 
-
-/// The profilers of --profile: the loop profile (compute / wait / period
-/// per iteration) and the function profile, whose control-loop scope uses
-/// the loop profiler's iterations; built before the first instruction, they
-/// see the whole stack.
-struct Profilers {
-    std::optional<hil::LoopProfiler> loop;
-    std::optional<hil::FunctionProfiler> functions;
-    Profilers(hil::AvrCore& core, const std::optional<hil::ElfSymbol>& mark) {
-        if (!mark) return;
-        loop.emplace(core, *mark);
-        functions.emplace(core);
-        // The compute scope: the loop without the wait in its mark (delay() and what it calls).
-        functions->set_wait_function(functions->map().at(mark->address));
-        loop->set_iteration_listener([this](bool completed) { functions->on_loop_boundary(completed); });
-    }
-};
 
 hil::SessionOptions session_options(const FirmwareRunOptions& options, const RunPlan& plan) {
     hil::SessionOptions o;
@@ -164,79 +145,6 @@ void collect_results(hil::Session& session, const RunPlan& plan, const ContractW
     result.eeprom_writes_recorded = rig.eeprom_timing().writes().size();
 }
 
-/// The profile outputs of --profile (loop_profile.csv, profile.json,
-/// profile.txt, callgrind.out) and their summary.json parts.
-struct ProfileOutputs {
-    json loop_profile = nullptr;
-    std::string loop_profile_csv;
-    json function_profile = nullptr;
-    std::string function_profile_txt;
-    std::string callgrind_txt;
-};
-
-ProfileOutputs profile_outputs(hil::Session& session, const RunPlan& plan, const FirmwareRunOptions& options,
-                               Profilers& profilers, FirmwareRunResult& result) {
-    ProfileOutputs out;
-    hil::RobotRig& rig = session.rig();
-    const uint32_t clock_hz = session.core().clock_hz();
-    if (profilers.loop) {
-        std::vector<Cycles> write_cycles;
-        for (const auto& w : rig.eeprom_timing().writes()) write_cycles.push_back(w.cycle);
-        profilers.loop->tag_eeprom_writes(write_cycles);
-        result.loop_profile = profilers.loop->iterations();
-        out.loop_profile = loop_profile_json(result.loop_profile, clock_hz);
-        out.loop_profile["eeprom_writes_all_tagged"] = rig.eeprom_timing().all_writes_recorded();
-        out.loop_profile["mark"] = plan.loop_mark_name;
-        out.loop_profile_csv = loop_profile_table(result.loop_profile, clock_hz);
-    }
-    if (profilers.functions) {
-        const hil::FunctionProfiler& fp = *profilers.functions;
-        FunctionProfileContext context{clock_hz, plan.loop_mark_name, {}, {}};
-        try {
-            context.lines = profile_lines(plan.elf.path(), fp);
-        } catch (const std::exception& e) {
-            context.lines_error = e.what();
-            std::fprintf(stderr, "ddmr-hil: warning: no source lines in the profile: %s\n", e.what());
-        }
-        out.function_profile = function_profile_json(fp, context);
-        out.function_profile["callgrind"] = {{"file", "callgrind.out"}, {"scope", callgrind_scope(fp)}};
-        out.function_profile_txt = function_profile_text(fp, context);
-        out.callgrind_txt = callgrind_profile(fp, context, plan.elf.path().string());
-        result.function_profile_top = function_profile_top(fp, context, options.profile_top);
-    }
-    return out;
-}
-
-/// summary.json's `isr` and isr.json / isr.md, from the instruments that were on.
-struct IsrOutputs {
-    json isr = nullptr;          ///< isr.json
-    json summary = nullptr;      ///< summary.json's `isr`
-    std::string markdown;        ///< isr.md
-};
-
-IsrOutputs isr_outputs(hil::Session& session) {
-    IsrOutputs out;
-    hil::IsrMonitor* monitor = session.isr_monitor();
-    hil::RaceDetector* races = session.race_detector();
-    if (monitor == nullptr) return out;
-    const hil::IsrSummary s = monitor->summary();
-    out.isr = isr_json(s);
-    out.markdown = hil::to_markdown(s);
-    out.summary = {{"isr_share", static_cast<double>(s.isr_cycles) /
-                                     static_cast<double>(std::max<Cycles>(1, s.observed_cycles()))},
-                   {"details", "isr.json"}};
-    if (races != nullptr) {
-        const RaceReport race = race_report(*races, session.elf());
-        out.isr["races"] = race.json;
-        out.markdown += race.markdown;
-        out.summary["torn_reads"] = torn_reads_summary(*races);
-        out.summary["races"] = {{"torn_observed", race.json["torn_observed"]},
-                                {"torn_possible", race.json["torn_possible"]},
-                                {"stale_reads", race.json["stale_reads"]}};
-    }
-    return out;
-}
-
 /// The EEPROM log, where the contract says the sketch keeps one.
 std::vector<hil::EepromLogSample> eeprom_log(hil::Session& session, const RunPlan& plan,
                                              const FirmwareRunResult& result) {
@@ -280,7 +188,9 @@ json summary_json(hil::Session& session, const RunPlan& plan, const FirmwareRunO
         {"protocol", plan.contract ? "contract" : "none"},
         {"contract", plan.contract ? json(plan.contract->source) : json(nullptr)},
         {"case", plan.test_case != 0 ? json(plan.test_case) : json(nullptr)},
-        {"plant_file", options.plant_file ? options.plant_file->string() : "(embedded defaults)"},
+        {"plant_file", !options.plant_source.empty() ? options.plant_source
+                       : options.plant_file       ? options.plant_file->string()
+                                                  : std::string("(embedded defaults)")},
         {"pwm", options.pwm == plant::DriveMode::switched ? "switched" : "averaged"},
         {"eeprom_timing", options.eeprom_timing == hil::EepromTimingMode::kDatasheet ? "datasheet" : "instant"},
         {"coupling_step_cycles", rig.coupler().config().step_cycles},
@@ -356,6 +266,7 @@ const char* to_string(RunExit exit) {
         case RunExit::kStackOverflow: return "stack_overflow";
         case RunExit::kTimeLimit: return "time_limit";
         case RunExit::kResetLoop: return "reset_loop";
+        case RunExit::kStopped: return "stopped";
     }
     return "unknown";
 }
@@ -407,16 +318,55 @@ FirmwareRunOptions::Send parse_send(const std::string& spec) {
     return s;
 }
 
-FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
-    const RunPlan plan = plan_firmware_run(options);  // every check before anything is written
-    hil::Session session(plan.elf, plan.config, session_options(options, plan));
-    hil::AvrCore& core = session.core();
-    // The contract's globals traced per iteration (firmware.csv), checked
-    // here, before anything is written.
+/// Everything one run holds; built in the order `run` has always built it.
+struct FirmwareRun::State {
+    FirmwareRunOptions options;
+    RunPlan plan;  // every check before anything is written
+    hil::Session session;
     std::optional<hil::LoopTracer> tracer;
+    Profilers profilers;
+    std::optional<VcdOutput> vcd;
+    std::optional<TruthOutput> truth;
+    std::optional<AtomicFileWriter> uart_txt;  ///< grows as the firmware writes: no copy held in memory
+    std::optional<LoopTraceOutput> loop_trace;
+    std::optional<TraceOutput> trace;
+    std::optional<ContractWatch> watch;
+    FirmwareRunResult result;
+    bool started = false;  ///< the contract's start text went out (or it has none)
+    bool driven = false;   ///< run_to_end ran: the contract drove the run
+    bool finished = false;
+
+    explicit State(FirmwareRunOptions o)
+        : options(std::move(o)), plan(plan_firmware_run(options)),
+          session(plan.elf, plan.config, session_options(options, plan)), profilers(session.core(), plan.loop_mark),
+          started(!plan.has_start) {}
+
+    void progress(const char* phase) {
+        if (!options.progress) return;
+        std::fprintf(stderr, "ddmr-hil run: %-8s t = %6.2f s of %.0f s simulated, %llu UART bytes\n", phase,
+                     session.core().seconds(), options.max_sim_seconds,
+                     static_cast<unsigned long long>(session.rig().uart().bytes_received()));
+    }
+    /// The contract's start text: once the firmware returns from its ready
+    /// function (run up to that first), at an AVR time, or after a text.
+    void send_start() {
+        if (started) return;
+        result.ready_cycle = session.core().cycle();
+        progress("ready");
+        if (profilers.loop) profilers.loop->arm();
+        session.send(plan.start_text);
+        started = true;
+    }
+    void check_and_wait();
+    void open_outputs();
+    void write_artifacts();
+};
+
+/// What can still be refused, and the debugger, before anything is written.
+void FirmwareRun::State::check_and_wait() {
+    // The contract's globals traced per iteration (firmware.csv).
     if (plan.loop_marker) tracer.emplace(session.rig().variables(), *plan.loop_marker, plan.traced);
-    Profilers profilers(core, plan.loop_mark);
-    // --trace's globals: every name and size checked before anything is written.
+    // --trace's globals: every name and size.
     for (const auto& v : plan.trace_vars) static_cast<void>(session.rig().variables().lookup(v.name, v.type));
     if (options.gdb_port) {
         std::fprintf(stderr,
@@ -425,107 +375,137 @@ FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
                      unsigned{*options.gdb_port}, unsigned{*options.gdb_port}, options.firmware.c_str());
         session.wait_for_debugger();
     }
-    prepare_output_dir(options.out_dir);
-    std::optional<VcdOutput> vcd;
-    if (options.vcd) vcd.emplace(session, *options.vcd, profilers.loop ? &*profilers.loop : nullptr);
-    if (!plan.completes) {
-        std::fprintf(stderr,
-                     "ddmr-hil: %s: %s, so it runs %g simulated s (--seconds) and ends with exit_reason time_limit\n",
-                     options.firmware.c_str(),
-                     plan.contract ? "the sketch contract says nothing about when a run is complete"
-                                   : "no sketch contract (--contract FILE, docs/contracts.md)",
-                     options.max_sim_seconds);
-    }
+}
 
-    // --- Streamed outputs (atomic: renamed into place at the end). ---
-    TruthOutput truth(options.out_dir / "truth.csv", session.rig());
-    // uart.txt grows as the firmware writes, so no copy of it is held in memory.
-    AtomicFileWriter uart_txt(options.out_dir / "uart.txt");
-    std::optional<LoopTraceOutput> loop_trace;
+/// The streamed outputs (atomic: renamed into place at the end) and the observers.
+void FirmwareRun::State::open_outputs() {
+    prepare_output_dir(options.out_dir);
+    hil::AvrCore& core = session.core();
+    if (options.vcd) vcd.emplace(session, *options.vcd, profilers.loop ? &*profilers.loop : nullptr);
+    truth.emplace(options.out_dir / "truth.csv", session.rig());
+    uart_txt.emplace(options.out_dir / "uart.txt");
     if (tracer) {
         loop_trace.emplace(*tracer, plan, options.out_dir / "firmware.csv", core.clock_hz(),
                            vcd ? &vcd->recorder() : nullptr);
     }
-    std::optional<TraceOutput> trace;
     if (!plan.trace_vars.empty()) trace.emplace(session, plan, options);
-
-    FirmwareRunResult result;
-    const auto progress = [&](const char* phase) {
-        if (!options.progress) return;
-        std::fprintf(stderr, "ddmr-hil run: %-8s t = %6.2f s of %.0f s simulated, %llu UART bytes\n", phase,
-                     core.seconds(), options.max_sim_seconds,
-                     static_cast<unsigned long long>(session.rig().uart().bytes_received()));
-    };
-    session.set_progress([&](Cycles) { progress("running"); });
-    // The contract's start text: once the firmware returns from its ready
-    // function (run up to that first), at an AVR time, or after a text.
-    bool started = !plan.has_start;
-    const auto send_start = [&] {
-        if (started) return;
-        result.ready_cycle = core.cycle();
-        progress("ready");
-        if (profilers.loop) profilers.loop->arm();
-        session.send(plan.start_text);
-        started = true;
-    };
-    ContractWatch watch(session, plan, options.unity, uart_txt, send_start);
-    session.attach(watch);
-    session.attach(truth);
+    session.set_progress([this](Cycles) { progress("running"); });
+    watch.emplace(session, plan, options.unity, *uart_txt, [this] { send_start(); });
+    watch->set_driving(options.contract_drives);
+    session.attach(*watch);
+    session.attach(*truth);
     if (loop_trace) session.attach(*loop_trace);
     if (trace) session.attach(*trace);
     if (vcd) session.attach(*vcd);
     // --send bytes go out at their times (those due during the reference
     // sketch's boot at its ready point, after the start text).
     for (const auto& s : plan.sends) {
-        session.at(hil::s_to_cycles(s.at_s, core.clock_hz()), [&session, &s] { session.send(s.bytes); });
+        session.at(hil::s_to_cycles(s.at_s, core.clock_hz()), [this, &s] { session.send(s.bytes); });
     }
-    const hil::SessionStop stop = run_session(session, plan, profilers, send_start);
-    if (watch.has_pose() && !watch.firmware_pose()) watch.read_pose();  // no text to read it at: the pose at the end
-    session.flush_host_bytes();  // bytes still on the wire reach the adapter
-    watch.finish();
-    classify_end(stop, session, plan, options, watch, result);
-    // A gdb still attached and waiting learns that the program exited, with
-    // the exit code this process will return.
-    if (hil::GdbServer* gdb = session.gdb()) {
-        gdb->end_of_run(result.exit == RunExit::kReportComplete ? kExitOk : kExitFirmware);
-    }
-    collect_results(session, plan, watch, loop_trace ? &*loop_trace : nullptr, result);
-    if (vcd) vcd->finish();
+}
 
-    // --- Artifacts, each written atomically. ---
+/// Every artifact, each written atomically.
+void FirmwareRun::State::write_artifacts() {
     const ProfileOutputs profile = profile_outputs(session, plan, options, profilers, result);
     const IsrOutputs isr = isr_outputs(session);
     const auto log = eeprom_log(session, plan, result);
     result.eeprom_log_samples = log.size();
     const std::vector<std::string> wiring_warnings = session.rig().warnings();
     for (const std::string& w : wiring_warnings) std::fprintf(stderr, "ddmr-hil: warning: %s\n", w.c_str());
-    const json summary = summary_json(session, plan, options, result, watch, profile, profilers, isr, wiring_warnings);
-    uart_txt.commit();
+    const json summary = summary_json(session, plan, options, result, *watch, profile, profilers, isr, wiring_warnings);
+    const fs::path& out = options.out_dir;
+    uart_txt->commit();
     const plant::World& world = session.rig().world();
     if (!world.lines.empty() || !world.walls.empty()) {
-        write_file_atomic(options.out_dir / "world.json", world_json(world).dump(2) + "\n");
+        write_file_atomic(out / "world.json", world_json(world).dump(2) + "\n");
     }
-    write_file_atomic(options.out_dir / "eeprom.bin",
+    write_file_atomic(out / "eeprom.bin",
                       std::string_view(reinterpret_cast<const char*>(result.eeprom.data()), result.eeprom.size()));
-    if (plan.contract && plan.contract->eeprom_log) {
-        write_file_atomic(options.out_dir / "eeprom_log.csv", hil::eeprom_log_csv(log));
-    }
-    if (profilers.loop) write_file_atomic(options.out_dir / "loop_profile.csv", profile.loop_profile_csv);
+    if (plan.contract && plan.contract->eeprom_log) write_file_atomic(out / "eeprom_log.csv", hil::eeprom_log_csv(log));
+    if (profilers.loop) write_file_atomic(out / "loop_profile.csv", profile.loop_profile_csv);
     if (profilers.functions) {
-        write_file_atomic(options.out_dir / "profile.json", profile.function_profile.dump(2) + "\n");
-        write_file_atomic(options.out_dir / "profile.txt", profile.function_profile_txt);
-        write_file_atomic(options.out_dir / "callgrind.out", profile.callgrind_txt);
+        write_file_atomic(out / "profile.json", profile.function_profile.dump(2) + "\n");
+        write_file_atomic(out / "profile.txt", profile.function_profile_txt);
+        write_file_atomic(out / "callgrind.out", profile.callgrind_txt);
     }
     if (session.isr_monitor() != nullptr) {
-        write_file_atomic(options.out_dir / "isr.json", isr.isr.dump(2) + "\n");
-        write_file_atomic(options.out_dir / "isr.md", isr.markdown);
+        write_file_atomic(out / "isr.json", isr.isr.dump(2) + "\n");
+        write_file_atomic(out / "isr.md", isr.markdown);
     }
     if (trace) trace->commit();
     if (vcd) vcd->commit();
-    truth.commit();
+    truth->commit();
     if (loop_trace) loop_trace->commit();
-    write_file_atomic(options.out_dir / "summary.json", summary.dump(2) + "\n");
-    return result;
+    write_file_atomic(out / "summary.json", summary.dump(2) + "\n");
+}
+
+FirmwareRun::FirmwareRun(FirmwareRunOptions options) : s_(std::make_unique<State>(std::move(options))) {
+    s_->check_and_wait();
+    s_->open_outputs();
+}
+
+FirmwareRun::~FirmwareRun() = default;
+
+hil::Session& FirmwareRun::session() { return s_->session; }
+const RunPlan& FirmwareRun::plan() const { return s_->plan; }
+const FirmwareRunOptions& FirmwareRun::options() const { return s_->options; }
+bool FirmwareRun::finished() const { return s_->finished; }
+
+void FirmwareRun::set_case(int test_case) {
+    RunPlan& plan = s_->plan;
+    if (s_->session.cycle() != 0) throw std::logic_error("the contract's case is set before the run starts");
+    if (!(plan.has_start && !plan.contract->start->cases.empty())) {
+        throw std::invalid_argument(fmt::format("case {}: the sketch contract {} takes no case", test_case,
+                                                plan.contract ? plan.contract->source : std::string("(none)")));
+    }
+    plan.test_case = test_case;
+    plan.start_text = plan.contract->start_text(test_case);  // refuses a case the contract does not list
+}
+
+hil::SessionStop FirmwareRun::run_to_end() {
+    State& st = *s_;
+    if (st.finished) throw std::logic_error("the run has finished: its artifacts are written");
+    if (!st.plan.completes) {
+        std::fprintf(stderr,
+                     "ddmr-hil: %s: %s, so it runs %g simulated s (--seconds) and ends with exit_reason time_limit\n",
+                     st.options.firmware.c_str(),
+                     st.plan.contract ? "the sketch contract says nothing about when a run is complete"
+                                      : "no sketch contract (--contract FILE, docs/contracts.md)",
+                     st.options.max_sim_seconds);
+    }
+    st.driven = true;
+    st.watch->set_driving(true);
+    return run_session(st.session, st.plan, st.profilers, [&st] { st.send_start(); });
+}
+
+FirmwareRunResult FirmwareRun::finish(hil::SessionStop stop) {
+    State& st = *s_;
+    if (st.finished) throw std::logic_error("the run has finished: its artifacts are written");
+    st.finished = true;
+    ContractWatch& watch = *st.watch;
+    if (watch.has_pose() && !watch.firmware_pose()) watch.read_pose();  // no text to read it at: the pose at the end
+    st.session.flush_host_bytes();  // bytes still on the wire reach the adapter
+    watch.finish();
+    classify_end(stop, st.session, st.plan, st.options, watch, st.result);
+    if (!st.driven && (stop == hil::SessionStop::kReachedCycle || stop == hil::SessionStop::kCondition) &&
+        st.result.exit != RunExit::kReportComplete) {
+        st.result.exit = RunExit::kStopped;  // a front end ran it to its own ends
+        st.result.message.clear();
+    }
+    // A gdb still attached and waiting learns that the program exited, with
+    // the exit code this process will return.
+    if (hil::GdbServer* gdb = st.session.gdb()) {
+        gdb->end_of_run(st.result.exit == RunExit::kReportComplete ? kExitOk : kExitFirmware);
+    }
+    collect_results(st.session, st.plan, watch, st.loop_trace ? &*st.loop_trace : nullptr, st.result);
+    if (st.vcd) st.vcd->finish();
+    st.write_artifacts();
+    return st.result;
+}
+
+FirmwareRunResult run_firmware(const FirmwareRunOptions& options) {
+    FirmwareRun run(options);
+    return run.finish(run.run_to_end());
 }
 
 }  // namespace ddmr::tools

@@ -42,6 +42,7 @@
 #include <cstdint>
 #include <array>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,6 +60,7 @@
 #include "hil/uart_link.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 #include "plant/bridge_driver.hpp"
+#include "plant/robot_params.hpp"
 
 namespace ddmr::tools {
 
@@ -91,6 +93,10 @@ struct FirmwareRunOptions {
     std::optional<std::filesystem::path> eeprom_preload;  ///< image of the MCU's EEPROM size
     hil::UartTiming uart_timing = hil::UartTiming::kChip;
     std::optional<std::filesystem::path> plant_file;  ///< plant (and board) YAML
+    /// The plant already resolved (a file with overrides and a seed: the
+    /// Python API); replaces plant_file's. plant_source names it in summary.json.
+    std::optional<plant::RobotParams> plant_params;
+    std::string plant_source;
     std::optional<std::filesystem::path> board_file;  ///< board YAML (overrides the plant file's)
     std::optional<std::filesystem::path> world_file;  ///< world YAML (docs/world.md); none: the plain floor
     /// --board-name: the board (MCU, clock) of a run without a board file,
@@ -136,6 +142,10 @@ struct FirmwareRunOptions {
     /// Where the ELF came from (a sketch build, a PlatformIO project):
     /// summary.json's `firmware_source`, null when the ELF was given.
     nlohmann::json firmware_source = nullptr;
+    /// The contract's start cue and completion act on the run from the start
+    /// (`run`); off, they act only once run_to_end() runs (a front end that
+    /// drives the session itself first, as the Python API does).
+    bool contract_drives = true;
 };
 
 enum class RunExit {
@@ -152,6 +162,7 @@ enum class RunExit {
     kStackOverflow,     ///< the stack grew into .data/.bss (hil/stack_guard.hpp)
     kTimeLimit,         ///< a run without a contract's `complete` ran its --seconds (success)
     kResetLoop,         ///< restarts from address 0 without a reset, in a loop (hil/reset_monitor.hpp)
+    kStopped,           ///< a front end ran the session to its own ends (the Python API's run_for, run_until)
 };
 
 /// "TEXT@TIME" (C escapes \r \n \t \\ \xHH in TEXT; TIME with a unit: 2s,
@@ -187,9 +198,42 @@ struct FirmwareRunResult {
     std::optional<UnitySummary> unity;  ///< with FirmwareRunOptions::unity, once its summary came
 };
 
-/// Validates every input (throws std::runtime_error / std::invalid_argument
-/// naming the bad value, before anything is written), runs, writes the
-/// artifacts and returns what happened.
+struct RunPlan;
+
+/// One run in phases, for a front end that drives it (the Python API):
+/// construction validates every input (throws std::runtime_error /
+/// std::invalid_argument naming the bad value, before anything is written),
+/// builds the Session and opens the streamed outputs in out_dir;
+/// run_to_end() boots, sends the contract's start text and runs until the
+/// contract completes or a stop ends the run, as `run` does; finish() writes
+/// every artifact and returns what happened. Between construction and
+/// finish() the front end may run session() itself.
+class FirmwareRun {
+public:
+    explicit FirmwareRun(FirmwareRunOptions options);
+    ~FirmwareRun();
+    FirmwareRun(const FirmwareRun&) = delete;
+    FirmwareRun& operator=(const FirmwareRun&) = delete;
+
+    hil::Session& session();
+    const RunPlan& plan() const;
+    const FirmwareRunOptions& options() const;
+    /// The contract's {case} for its start text, before the run starts.
+    /// Throws std::invalid_argument when the contract takes no case or not this one.
+    void set_case(int test_case);
+    /// The boot, the start text and the run to its end, as `run` does them.
+    hil::SessionStop run_to_end();
+    /// Ends the run (`stop`: how the last run returned), writes the
+    /// artifacts, returns the result. Once.
+    FirmwareRunResult finish(hil::SessionStop stop);
+    bool finished() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> s_;
+};
+
+/// `ddmr-hil run`: FirmwareRun's phases one after the other.
 FirmwareRunResult run_firmware(const FirmwareRunOptions& options);
 
 }  // namespace ddmr::tools

@@ -22,7 +22,9 @@ namespace {
 
 hil::RigConfig rig_config(const FirmwareRunOptions& o) {
     hil::RigConfig c;
-    if (o.plant_file) {
+    if (o.plant_params) {
+        c.plant = *o.plant_params;
+    } else if (o.plant_file) {
         c.plant = plant::load_robot_params(*o.plant_file);
     }
     if (o.board_file) {

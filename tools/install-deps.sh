@@ -11,7 +11,8 @@ gcc-avr binutils-avr avr-libc
 arduino-core-avr arduino-builder arduino-ctags
 libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
 libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libfmt-dev libssl-dev
-python3 python3-matplotlib python3-jsonschema python3-yaml python3-pytest
+python3 python3-matplotlib python3-jsonschema python3-yaml python3-pytest python3-pytest-xdist python3-numpy python3-distributed
+pybind11-dev python3-dev
 gdb-avr libpugixml-dev patch
 valgrind ccache lld
 libnlopt-cxx-dev libinih-dev

@@ -25,4 +25,11 @@ void append_truth_row(std::string& out, const hil::TruthSample& s, bool with_dri
     out.push_back('\n');
 }
 
+void append_truth_values(std::vector<double>& out, const hil::TruthSample& s, bool with_drive) {
+    out.insert(out.end(), {s.t_s, s.x_m, s.y_m, s.theta_rad, s.v_m_s, s.omega_rad_s, s.ia1_A, s.ia2_A,
+                           s.wheel1_rad_s, s.wheel2_rad_s, s.vbatt_V, static_cast<double>(s.edges1),
+                           static_cast<double>(s.edges2)});
+    if (with_drive) out.insert(out.end(), {s.duty1, s.duty2, s.dir1 ? 1.0 : 0.0, s.dir2 ? 1.0 : 0.0});
+}
+
 }  // namespace ddmr::tools

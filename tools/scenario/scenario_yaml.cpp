@@ -14,6 +14,7 @@
 
 #include "common/arduino_libraries.hpp"
 #include "common/platformio_project.hpp"
+#include "common/plant_yaml.hpp"
 #include "hil/board.hpp"
 #include "hil/world_file.hpp"
 #include "plant/params_yaml.hpp"
@@ -57,23 +58,6 @@ std::string step_text(const YAML::Node& step) {
     e.SetSeqFormat(YAML::Flow);
     e << step;
     return e.c_str();
-}
-
-/// Merges `over` into `base`, key by key (scalars replace). An encoder's
-/// resolution is one of two keys: giving one drops the other from `base`.
-void merge(YAML::Node base, const YAML::Node& over) {
-    for (const char* key : {"edges_per_motor_rev", "edges_per_wheel_rev"}) {
-        const std::string other = std::string(key) == "edges_per_motor_rev" ? "edges_per_wheel_rev" : "edges_per_motor_rev";
-        if (over.IsMap() && over[key] && base.IsMap() && base[other]) base.remove(other);
-    }
-    for (const auto& kv : over) {
-        const std::string k = kv.first.Scalar();
-        if (kv.second.IsMap() && base[k] && base[k].IsMap()) {
-            merge(base[k], kv.second);
-        } else {
-            base[k] = YAML::Clone(kv.second);
-        }
-    }
 }
 
 /// The text of a scenario as YAML: a mapping (its keys are checked later).
@@ -243,7 +227,7 @@ void read_serial(const Ctx& top, const YAML::Node& root, const hil::BoardDescrip
 
 /// plant: embedded defaults, or a file, then overrides; the seed feeds the encoders.
 void read_plant(const Ctx& top, const YAML::Node& root, Scenario& s) {
-    YAML::Node plant_yaml = YAML::Load(plant::emit_robot_params(plant::default_robot_params()));
+    YAML::Node plant_yaml = default_plant_yaml();
     std::string plant_source = top.file().string() + " (plant)";
     if (root["plant"]) {
         const Ctx c = top.at(root["plant"], "plant");
@@ -256,13 +240,10 @@ void read_plant(const Ctx& top, const YAML::Node& root, Scenario& s) {
         if (c.has("overrides")) {
             const Ctx o = c.child("overrides");
             if (!o.node().IsMap()) o.fail("expected a mapping like {motor1: {resistance_ohm: 6.0}}");
-            merge(plant_yaml, o.node());
+            merge_plant_yaml(plant_yaml, o.node());
         }
     }
-    for (const char* enc : {"encoder1", "encoder2"}) {
-        if (!plant_yaml[enc]) plant_yaml[enc] = YAML::Node(YAML::NodeType::Map);
-        plant_yaml[enc]["seed"] = s.seed + (std::string(enc) == "encoder1" ? 0 : 1);
-    }
+    seed_plant_yaml(plant_yaml, s.seed);
     try {
         YAML::Emitter e;
         e << plant_yaml;

@@ -1,0 +1,92 @@
+"""ddmr_hil.Session: the engine driven from Python, checked against what the
+command line does with the same firmware, and against facts of the
+reference sketch (firmware/ddmr_tracking: setup() ends with delay(5000),
+then it waits for the case byte; case 1 drives a 0.6 m circle)."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import ddmr_hil
+from ddmr_hil import Session
+
+# Files `ddmr-hil run` writes whose bytes depend only on the simulation
+# (summary.json also holds wall-clock times and paths).
+DETERMINISTIC = ["uart.txt", "truth.csv", "eeprom.bin", "firmware.csv", "eeprom_log.csv", "isr.json", "isr.md"]
+
+
+def test_run_contract_gives_the_cli_runs_artifacts(tmp_path, build_dir, reference_elf):
+    api = tmp_path / "api"
+    s = Session(firmware=reference_elf)
+    assert s.run_contract(case=1) == "report_complete"
+    assert s.save_artifacts(api) == "report_complete"
+    cli = tmp_path / "cli"
+    subprocess.run([str(build_dir / "ddmr-hil"), "run", "--case", "1", "--quiet", "--out", str(cli)], check=True,
+                   stdout=subprocess.DEVNULL)
+    for name in DETERMINISTIC:
+        assert (api / name).read_bytes() == (cli / name).read_bytes(), name
+    # The session's truth is truth.csv's, value for value.
+    csv = np.genfromtxt(cli / "truth.csv", delimiter=",", names=True)
+    hist = s.truth.history()
+    assert list(hist.dtype.names) == list(csv.dtype.names)
+    assert len(hist) == len(csv)
+    np.testing.assert_allclose(hist["x_m"], csv["x_m"], rtol=0, atol=1e-8)
+    with pytest.raises(ddmr_hil.RunEnded):
+        s.run_for(0.1)
+
+
+def test_a_free_run_boots_takes_the_case_byte_and_drives(reference_elf):
+    s = Session(firmware=reference_elf, instruments=False)
+    s.run_for(4.0)  # inside setup()'s delay(5000): nothing moves
+    assert s.time_s == pytest.approx(4.0, abs=1e-4)
+    assert s.truth.pose() == (0.0, 0.0, 0.0)
+    assert s.var("t").value == 0.0
+    s.run_for(1.1)
+    s.serial.write(b"1")
+    s.run_until(lambda s: s.truth.pose().x_m > 0.05, timeout_s=3.0)
+    assert s.var("t").value > 0.0  # the control loop runs
+    assert 0.0 < s.pwm("D10").duty <= 1.0  # the right motor's enable is modulated
+    hist = s.truth.history()
+    assert hist["t_s"][-1] == pytest.approx(s.time_s, abs=2e-3)
+    assert hist["x_m"][-1] > 0.05
+
+
+def test_a_wait_that_times_out_raises_timeout_and_the_session_goes_on(reference_elf):
+    s = Session(firmware=reference_elf, instruments=False)
+    with pytest.raises(ddmr_hil.Timeout, match="'never' did not come within 0.5 s of AVR time"):
+        s.run_until_serial("never", timeout_s=0.5)
+    assert s.time_s == pytest.approx(0.5, abs=1e-3)
+    s.run_for(0.1)
+    assert s.time_s == pytest.approx(0.6, abs=1e-3)
+
+
+def test_plant_overrides_and_seed_change_the_plant(tmp_path, reference_elf):
+    def end_x(**kw):
+        s = Session(firmware=reference_elf, instruments=False, **kw)
+        s.run_for(5.1)
+        s.serial.write(b"1")
+        s.run_for(1.0)
+        return s.truth.pose().x_m
+
+    base = end_x()
+    assert end_x() == base  # deterministic
+    # A motor with twice the armature resistance gives less torque: the robot lags.
+    assert end_x(plant={"motor1": {"resistance_ohm": 2 * 5.32}}) != base
+
+
+def test_bad_input_is_a_one_line_error(tmp_path, reference_elf):
+    with pytest.raises(ddmr_hil.ConfigError, match="no_such.elf"):
+        Session(firmware=tmp_path / "no_such.elf")
+    with pytest.raises(ValueError):  # a ConfigError is a ValueError too
+        Session(firmware=reference_elf, plant={"motor1": {"resistance_ohm": -1}})
+    s = Session(firmware=reference_elf, instruments=False)
+    with pytest.raises(ddmr_hil.ConfigError, match="pin 'D99'"):
+        s.pin("D99")
+    with pytest.raises(ddmr_hil.ConfigError, match="no_such_global"):
+        s.var("no_such_global")
+    with pytest.raises(ddmr_hil.ConfigError):
+        s.run_for(-1)
+    s.run_for(0.01)
+    with pytest.raises(ddmr_hil.UsageError, match="fresh Session"):
+        s.run_contract(case=1)

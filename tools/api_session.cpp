@@ -1,0 +1,326 @@
+#include "api_session.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <system_error>
+
+#include "common/plant_yaml.hpp"
+#include "common/truth_csv.hpp"
+#include "firmware_run_plan.hpp"
+#include "hil/board_description.hpp"
+#include "plant/params_yaml.hpp"
+
+namespace ddmr::tools {
+namespace {
+
+namespace fs = std::filesystem;
+using hil::Cycles;
+
+/// A private folder for the streamed artifacts (mkdtemp: never shared).
+fs::path make_staging() {
+    std::string tmpl = (fs::temp_directory_path() / "ddmr-hil-session-XXXXXX").string();
+    if (::mkdtemp(tmpl.data()) == nullptr) {
+        throw std::runtime_error(fmt::format("cannot create a staging folder {}: {}", tmpl,
+                                             std::error_code(errno, std::generic_category()).message()));
+    }
+    return tmpl;
+}
+
+/// The plant: its file or the defaults, the overrides merged in, the seed.
+plant::RobotParams resolve_plant(const ApiOptions& o, std::string& source) {
+    YAML::Node yaml = o.plant_file ? YAML::LoadFile(o.plant_file->string()) : default_plant_yaml();
+    source = o.plant_file ? o.plant_file->string() : std::string("(embedded defaults)");
+    if (o.plant_file) plant::load_robot_params(*o.plant_file);  // its own messages name its file and line
+    if (!o.plant_overrides.empty()) {
+        YAML::Node over;
+        try {
+            over = YAML::Load(o.plant_overrides);
+        } catch (const YAML::Exception& e) {
+            throw std::invalid_argument(fmt::format("plant overrides: not YAML or JSON: {}", e.msg));
+        }
+        if (!over.IsMap()) {
+            throw std::invalid_argument("plant overrides: expected a mapping like {motor1: {resistance_ohm: 6.0}}");
+        }
+        merge_plant_yaml(yaml, over);
+        source += " + overrides";
+    }
+    if (o.seed) seed_plant_yaml(yaml, *o.seed);
+    YAML::Emitter e;
+    e << yaml;
+    return plant::parse_robot_params(e.c_str(), o.plant_overrides.empty() ? source : "plant overrides");
+}
+
+FirmwareRunOptions run_options(const ApiOptions& o, const fs::path& staging) {
+    FirmwareRunOptions fo;
+    fo.firmware = o.firmware;
+    if (o.contract) {
+        fo.contract = *o.contract;
+    } else if (fs::exists(o.firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) &&
+               fs::equivalent(o.firmware, DDMR_DEFAULT_FIRMWARE)) {
+        fo.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract, as `run` takes it
+    }
+    fo.max_sim_seconds = o.max_sim_seconds;
+    fo.max_wall_seconds = 1e9;  // a Python test runs as long as it likes (Ctrl-C stops it)
+    fo.out_dir = staging;
+    fo.baud = o.baud;
+    fo.board_file = o.board_file;
+    fo.world_file = o.world_file;
+    fo.plant_file = o.plant_file;
+    if (!o.plant_overrides.empty() || o.seed) {
+        std::string source;
+        fo.plant_params = resolve_plant(o, source);
+        fo.plant_source = source;
+    }
+    fo.instruments = o.instruments;
+    fo.contract_drives = false;  // run_contract() hands the run to the contract
+    return fo;
+}
+
+}  // namespace
+
+/// What the host receives and the plant's truth, kept for the caller; it
+/// stops the running chunk when the awaited text arrives.
+class ApiSession::Observer final : public hil::SessionObserver {
+public:
+    Observer(hil::Session& session, ApiSession& api) : session_(session), api_(api) {}
+    void on_host_byte(char c, Cycles /*cycle*/) override {
+        text_.push_back(c);
+        if (!awaited_.empty() && !seen_ && text_.size() >= from_ + awaited_.size() &&
+            text_.compare(text_.size() - awaited_.size(), awaited_.size(), awaited_) == 0) {
+            seen_ = true;
+            session_.interrupt();
+        }
+    }
+    void on_truth(const hil::TruthSample& s) override {
+        append_truth_values(api_.truth_rows_, s, /*with_drive=*/true);
+        values_.clear();
+        session_.rig().extra_truth_values(values_);
+        api_.truth_rows_.insert(api_.truth_rows_.end(), values_.begin(), values_.end());
+    }
+    void await(const std::string& text) {
+        awaited_ = text;
+        from_ = text_.size();
+        seen_ = false;
+    }
+    bool seen() const { return seen_; }
+    const std::string& text() const { return text_; }
+
+private:
+    hil::Session& session_;
+    ApiSession& api_;
+    std::string text_;
+    std::string awaited_;
+    std::size_t from_ = 0;
+    bool seen_ = false;
+    std::vector<double> values_;
+};
+
+ApiSession::ApiSession(const ApiOptions& options) : staging_(make_staging()) {
+    try {
+        run_ = std::make_unique<FirmwareRun>(run_options(options, staging_));
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove_all(staging_, ignored);
+        throw;
+    }
+    hil::Session& session = run_->session();
+    observer_ = std::make_unique<Observer>(session, *this);
+    session.attach(*observer_);
+    std::string header = truth_csv_header(/*with_drive=*/true);
+    header.pop_back();
+    for (std::size_t at = 0;;) {
+        const std::size_t comma = header.find(',', at);
+        truth_columns_.push_back(header.substr(at, comma - at));
+        if (comma == std::string::npos) break;
+        at = comma + 1;
+    }
+    for (const std::string& c : session.rig().extra_truth_columns()) truth_columns_.push_back(c);
+}
+
+ApiSession::~ApiSession() {
+    run_.reset();  // its writers' temporary files first
+    std::error_code ignored;
+    fs::remove_all(staging_, ignored);
+}
+
+Cycles ApiSession::cycle() { return run_->session().cycle(); }
+double ApiSession::time_s() { return run_->session().seconds(cycle()); }
+
+void ApiSession::check_running() const {
+    if (!ended_.empty()) throw ApiRunEnded(ended_);
+}
+
+void ApiSession::end_run(hil::SessionStop stop) {
+    last_stop_ = stop;
+    hil::Session& session = run_->session();
+    switch (stop) {
+        case hil::SessionStop::kFailure:
+        case hil::SessionStop::kWallLimit:
+        case hil::SessionStop::kKilled: ended_ = session.end_message(stop); break;
+        case hil::SessionStop::kTimeLimit:
+            ended_ = fmt::format("the session's time limit ({} s of AVR time) was reached", run_->options().max_sim_seconds);
+            break;
+        default: return;
+    }
+    throw ApiRunEnded(ended_);
+}
+
+void ApiSession::run_to(Cycles target, const std::function<bool()>& stop_when, const Between& between) {
+    check_running();
+    hil::Session& session = run_->session();
+    const Cycles chunk = hil::s_to_cycles(kChunkSeconds, session.core().clock_hz());
+    hil::RunCondition until;
+    if (stop_when) until.met = stop_when;
+    while (session.cycle() < target) {
+        const hil::SessionStop stop = session.run(std::min(target, session.cycle() + chunk), until);
+        last_stop_ = stop;
+        if (stop != hil::SessionStop::kReachedCycle && stop != hil::SessionStop::kCondition) end_run(stop);
+        if (stop_when && stop_when()) return;
+        if (between) between();
+    }
+}
+
+void ApiSession::run_for(double seconds, const Between& between) {
+    if (!(seconds >= 0.0) || !std::isfinite(seconds)) {
+        throw std::invalid_argument(fmt::format("run_for({}): the AVR time must be a number of seconds >= 0", seconds));
+    }
+    run_to(cycle() + hil::s_to_cycles(seconds, run_->session().core().clock_hz()), {}, between);
+}
+
+void ApiSession::run_until_serial(const std::string& text, double timeout_s, const Between& between) {
+    if (text.empty()) throw std::invalid_argument("run_until_serial: the text is empty");
+    if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) {
+        throw std::invalid_argument(fmt::format("run_until_serial: timeout_s {} must be a positive number", timeout_s));
+    }
+    observer_->await(text);
+    const double from = time_s();
+    run_to(cycle() + hil::s_to_cycles(timeout_s, run_->session().core().clock_hz()),
+           [this] { return observer_->seen(); }, between);
+    if (!observer_->seen()) {
+        throw ApiTimeout(fmt::format("'{}' did not come within {} s of AVR time (from t = {:.3f} s to {:.3f} s)", text,
+                                     timeout_s, from, time_s()));
+    }
+}
+
+void ApiSession::run_until(const std::function<bool()>& condition, double timeout_s, const Between& between) {
+    if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) {
+        throw std::invalid_argument(fmt::format("run_until: timeout_s {} must be a positive number", timeout_s));
+    }
+    if (condition()) return;
+    const uint32_t clock_hz = run_->session().core().clock_hz();
+    const Cycles end = cycle() + hil::s_to_cycles(timeout_s, clock_hz);
+    const Cycles ms = hil::s_to_cycles(1e-3, clock_hz);
+    const double from = time_s();
+    bool held = false;
+    while (!held && cycle() < end) {
+        run_to(std::min(end, cycle() + ms), {}, {});
+        held = condition();
+        if (between && !held) between();
+    }
+    if (!held) {
+        throw ApiTimeout(fmt::format("the condition did not hold within {} s of AVR time (from t = {:.3f} s to {:.3f} s)",
+                                     timeout_s, from, time_s()));
+    }
+}
+
+std::string ApiSession::run_contract(std::optional<int> test_case) {
+    check_running();
+    if (cycle() != 0) {
+        throw std::logic_error("run_contract() runs the sketch contract from reset: call it on a fresh Session");
+    }
+    if (!run_->plan().contract) {
+        throw std::invalid_argument(fmt::format("run_contract: {} has no sketch contract (Session(contract=FILE), "
+                                                "docs/contracts.md)",
+                                                run_->options().firmware.string()));
+    }
+    if (test_case) run_->set_case(*test_case);
+    const hil::SessionStop stop = run_->run_to_end();
+    last_stop_ = stop;
+    const FirmwareRunResult r = run_->finish(stop);
+    exit_reason_ = to_string(r.exit);
+    ended_ = fmt::format("the contract's run has ended ({}): the session cannot run on", exit_reason_);
+    return exit_reason_;
+}
+
+void ApiSession::serial_write(const std::string& bytes) {
+    check_running();
+    run_->session().send(bytes);
+}
+
+const std::string& ApiSession::serial_text() const { return observer_->text(); }
+
+std::string ApiSession::serial_read_new() {
+    const std::string& t = observer_->text();
+    std::string out = t.substr(std::min(read_mark_, t.size()));
+    read_mark_ = t.size();
+    return out;
+}
+
+int ApiSession::pin_number(const std::string& name) {
+    const hil::BoardDescription& board = run_->session().core().board();
+    const std::optional<int> pin = hil::parse_pin_name(board, name);
+    if (!pin) {
+        throw std::invalid_argument(
+            fmt::format("pin '{}': the {} has pins {}", name, board.label, hil::pin_range(board)));
+    }
+    return *pin;
+}
+
+bool ApiSession::pin_level(int pin) {
+    hil::AvrCore& core = run_->session().core();
+    const hil::PinInfo info = *hil::board_pin(core.board(), pin);
+    auto& w = waveforms_[pin];
+    if (!w) w = std::make_unique<hil::PinWaveforms>(core, std::vector<int>{pin});
+    w->advance_to(core.cycle());
+    if (w->mode(pin) == hil::PinMode::output) return w->level_at(pin, core.cycle());
+    return ((core.data(info.pin_register) >> info.bit) & 1U) != 0;
+}
+
+double ApiSession::pwm_duty(int pin) {
+    hil::AvrCore& core = run_->session().core();
+    (void)pin_level(pin);  // builds and advances its waveform
+    const hil::PinWaveforms& w = *waveforms_[pin];
+    return w.mode(pin) == hil::PinMode::output ? w.duty(pin) : 0.0;
+}
+
+double ApiSession::var_read(const std::string& name, const std::string& type) {
+    hil::Session& session = run_->session();
+    const hil::TracedVariable v = parse_trace_spec(type.empty() ? name : name + ":" + type, session.elf());
+    return session.rig().variables().read(v.name, v.type);
+}
+
+plant::Pose ApiSession::pose() { return run_->session().rig().robot().pose(); }
+
+std::vector<uint8_t> ApiSession::eeprom() {
+    const hil::EepromImage image = run_->session().rig().eeprom().read_all();
+    return {image.begin(), image.end()};
+}
+
+std::vector<std::string> ApiSession::warnings() { return run_->session().rig().warnings(); }
+
+void ApiSession::save_artifacts(const fs::path& dir) {
+    if (!run_->finished()) {
+        const FirmwareRunResult r = run_->finish(last_stop_);
+        exit_reason_ = to_string(r.exit);
+        if (ended_.empty()) ended_ = "the session's artifacts were saved: it cannot run on (start a new Session)";
+    }
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw std::runtime_error(fmt::format("save_artifacts: cannot create {}: {}", dir.string(), ec.message()));
+    for (const auto& e : fs::directory_iterator(staging_)) {
+        if (!e.is_regular_file()) continue;
+        // Each file whole or not at all: copied beside its place, then renamed.
+        const fs::path partial = dir / ("." + e.path().filename().string() + ".partial");
+        fs::copy_file(e.path(), partial, fs::copy_options::overwrite_existing, ec);
+        if (!ec) fs::rename(partial, dir / e.path().filename(), ec);
+        if (ec) {
+            throw std::runtime_error(
+                fmt::format("save_artifacts: cannot write {}: {}", (dir / e.path().filename()).string(), ec.message()));
+        }
+    }
+}
+
+}  // namespace ddmr::tools

@@ -1,0 +1,140 @@
+#pragma once
+// ApiSession: one HIL session driven step by step, the engine under the
+// Python API (tools/python, docs/python.md). It is a FirmwareRun (the run
+// `ddmr-hil run` does, with the same checks, observers and artifacts) whose
+// artifacts stream into a private staging folder, plus what a test asks of
+// a running robot: run for a time, until a serial text or a condition; type
+// into the serial port; read pins, PWM duties, globals, the pose, the truth
+// so far and the EEPROM. save_artifacts() ends the run and copies the
+// artifacts; run_contract() runs the sketch contract as `run` does.
+//
+// Every run is chunked (kChunkSeconds of AVR time) and calls the caller's
+// `between` hook between chunks (the Python binding checks for Ctrl-C
+// there). Errors are exceptions with one line: std::invalid_argument and
+// std::runtime_error for bad input (as the CLI's), ApiTimeout for a wait
+// that timed out, ApiRunEnded for a run that ended (the firmware failed,
+// the time limit) with the run's own one-line reason.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "firmware_run.hpp"
+#include "hil/pin_waveforms.hpp"
+#include "plant/diff_drive_kinematics.hpp"
+
+namespace ddmr::tools {
+
+/// A wait whose AVR-time limit came first (Python: ddmr_hil.Timeout).
+class ApiTimeout : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// The run ended and cannot go on: the firmware failed, the plant failed,
+/// the session's time limit, or finish (Python: ddmr_hil.RunEnded).
+class ApiRunEnded : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct ApiOptions {
+    std::filesystem::path firmware;
+    std::optional<std::filesystem::path> board_file;
+    std::optional<std::filesystem::path> plant_file;
+    /// Overrides merged into the plant (file or defaults), as YAML or JSON
+    /// text: {"motor1": {"resistance_ohm": 6.0}}; empty: none.
+    std::string plant_overrides;
+    std::optional<std::filesystem::path> world_file;
+    /// The sketch contract; unset: the reference firmware's own, else none.
+    std::optional<std::filesystem::path> contract;
+    /// The encoders' noise seeds (encoder1 = seed, encoder2 = seed + 1), as a
+    /// scenario's seed; unset: the plant's own.
+    std::optional<uint64_t> seed;
+    double max_sim_seconds = 3600.0;  ///< the session's AVR-time limit [s]
+    std::optional<uint32_t> baud;     ///< the host's serial adapter (8N1); unset: bytes as sent
+    hil::SessionInstruments instruments{};
+};
+
+class ApiSession {
+public:
+    /// Called between chunks of a run; it may throw to stop the run.
+    using Between = std::function<void()>;
+    static constexpr double kChunkSeconds = 0.01;
+
+    explicit ApiSession(const ApiOptions& options);
+    ~ApiSession();
+    ApiSession(const ApiSession&) = delete;
+    ApiSession& operator=(const ApiSession&) = delete;
+
+    [[nodiscard]] hil::Cycles cycle();
+    [[nodiscard]] double time_s();
+
+    /// Runs `seconds` more of AVR time.
+    void run_for(double seconds, const Between& between = {});
+    /// Runs until `text` has arrived after what the host had received, or
+    /// throws ApiTimeout after `timeout_s` of AVR time.
+    void run_until_serial(const std::string& text, double timeout_s, const Between& between = {});
+    /// Runs until `condition` holds (checked every millisecond of AVR time),
+    /// or throws ApiTimeout after `timeout_s`.
+    void run_until(const std::function<bool()>& condition, double timeout_s, const Between& between = {});
+    /// The sketch contract's run, as `ddmr-hil run` does it (boot, start text
+    /// with `test_case`, until complete), then the artifacts; on a fresh
+    /// session only. Returns summary.json's exit_reason.
+    std::string run_contract(std::optional<int> test_case);
+
+    /// Types `bytes` into the firmware's serial port now.
+    void serial_write(const std::string& bytes);
+    /// Everything the host received; read_new(): what came since the last call.
+    [[nodiscard]] const std::string& serial_text() const;
+    std::string serial_read_new();
+
+    /// A board pin by name ("D10", "A0", "13"); throws naming the board's pins.
+    [[nodiscard]] int pin_number(const std::string& name);
+    /// The pin's level: an output's as the chip drives it (PWM included),
+    /// an input's as PINx reads it.
+    [[nodiscard]] bool pin_level(int pin);
+    /// The pin's PWM duty [0, 1]: an output's mean level over a period (a
+    /// static output: 0 or 1); an input: 0.
+    [[nodiscard]] double pwm_duty(int pin);
+    /// A global by name and type ("uint32", "float", ... or "" by its size).
+    [[nodiscard]] double var_read(const std::string& name, const std::string& type);
+
+    [[nodiscard]] plant::Pose pose();
+    /// truth.csv's columns and every row so far (row-major).
+    [[nodiscard]] const std::vector<std::string>& truth_columns() const { return truth_columns_; }
+    [[nodiscard]] const std::vector<double>& truth_rows() const { return truth_rows_; }
+    [[nodiscard]] std::vector<uint8_t> eeprom();
+    [[nodiscard]] std::vector<std::string> warnings();
+
+    /// Ends the run (once) and copies its artifacts, the files `run` writes,
+    /// into `dir` (created if missing); later calls copy them again.
+    void save_artifacts(const std::filesystem::path& dir);
+    /// The run's exit_reason once it has ended ("" before).
+    [[nodiscard]] const std::string& exit_reason() const { return exit_reason_; }
+
+private:
+    class Observer;
+    void run_to(hil::Cycles target, const std::function<bool()>& stop_when, const Between& between);
+    void check_running() const;
+    void end_run(hil::SessionStop stop);
+
+    std::filesystem::path staging_;
+    std::unique_ptr<FirmwareRun> run_;
+    std::unique_ptr<Observer> observer_;
+    std::vector<std::string> truth_columns_;
+    std::vector<double> truth_rows_;
+    std::map<int, std::unique_ptr<hil::PinWaveforms>> waveforms_;
+    std::size_t read_mark_ = 0;
+    hil::SessionStop last_stop_ = hil::SessionStop::kReachedCycle;
+    std::string ended_;       ///< why the run cannot go on ("" while it can)
+    std::string exit_reason_;
+};
+
+}  // namespace ddmr::tools

@@ -1,0 +1,274 @@
+"""ddmr-hil from Python: the unmodified AVR firmware in simavr, the robot's
+plant around it, driven step by step (docs/python.md).
+
+    from ddmr_hil import Session
+    s = Session(firmware="build/firmware/ddmr_tracking.elf")
+    s.run_until_serial("0.6m", timeout_s=8)    # AVR time; raises ddmr_hil.Timeout
+    s.serial.write(b"1"); s.run_for(12.0)
+    print(s.truth.pose(), s.var("Count1", "uint32").value)
+
+The engine is the same Session the command line drives (`ddmr-hil run`):
+the same checks, the same one-line errors, the same artifacts.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Callable, NamedTuple, Optional, Union
+
+from ._ddmr_hil import (  # noqa: F401  (re-exported)
+    ConfigError,
+    DdmrHilError,
+    RunEnded,
+    Timeout,
+    UsageError,
+    _Session,
+)
+
+__all__ = [
+    "Session",
+    "Pose",
+    "DdmrHilError",
+    "ConfigError",
+    "Timeout",
+    "RunEnded",
+    "UsageError",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class Pose(NamedTuple):
+    """The robot's true pose: x_m, y_m [m] and theta_rad [rad, not wrapped]."""
+
+    x_m: float
+    y_m: float
+    theta_rad: float
+
+
+class Serial:
+    """The host's side of the firmware's serial port (Serial, or the
+    board's host port)."""
+
+    def __init__(self, core: _Session):
+        self._core = core
+
+    def write(self, data: Union[bytes, str]) -> None:
+        """Types `data` into the firmware's RX now (at the line's baud rate)."""
+        if isinstance(data, str):
+            data = data.encode()
+        self._core.serial_write(bytes(data))
+
+    def read(self) -> bytes:
+        """The bytes the host received since the last read()."""
+        return self._core.serial_read_new()
+
+    @property
+    def text(self) -> bytes:
+        """Every byte the host has received."""
+        return self._core.serial_text()
+
+
+class Pin:
+    """A board pin: `level` is what the chip drives (an output, PWM
+    included) or reads (an input's PINx bit)."""
+
+    def __init__(self, core: _Session, name: str):
+        self._core = core
+        self.name = name
+        self.number = core.pin_number(name)
+
+    @property
+    def level(self) -> int:
+        return 1 if self._core.pin_level(self.number) else 0
+
+    @property
+    def duty(self) -> float:
+        """The output's mean level over its PWM period (0 or 1 when static)."""
+        return self._core.pwm_duty(self.number)
+
+
+class Var:
+    """A firmware global, read by its ELF name as `type` (int8 .. uint32,
+    float; default: by its size)."""
+
+    def __init__(self, core: _Session, name: str, type: str = ""):
+        self._core = core
+        self.name = name
+        self.type = type
+        self.value  # checks the name and the type now
+
+    @property
+    def value(self) -> float:
+        return self._core.var_read(self.name, self.type)
+
+    def __float__(self) -> float:
+        return float(self.value)
+
+    def __int__(self) -> int:
+        return int(self.value)
+
+    def __repr__(self) -> str:
+        return f"Var({self.name!r}, {self.type or 'by size'!r}) = {self.value!r}"
+
+
+class Truth:
+    """The plant's ground truth: truth.csv's columns, sampled every
+    millisecond of AVR time."""
+
+    def __init__(self, core: _Session):
+        self._core = core
+
+    def pose(self) -> Pose:
+        return Pose(*self._core.pose())
+
+    @property
+    def columns(self) -> list:
+        return list(self._core.truth_columns())
+
+    def history(self):
+        """Every sample so far as a numpy structured array, one field per
+        truth.csv column (t_s, x_m, ..., then the world's and the parts')."""
+        import numpy as np
+
+        rows = self._core.truth_history()
+        dtype = np.dtype([(c, np.float64) for c in self._core.truth_columns()])
+        return np.ascontiguousarray(rows).view(dtype).reshape(-1)
+
+
+class Session:
+    """One simulated robot: the firmware in simavr, the board's wiring, the
+    plant, the world.
+
+    firmware   the ELF (built for the board's MCU)
+    board      a board file (docs/boards.md); None: the thesis robot's wiring
+    plant      a plant file (docs/plant.md), or a dict of overrides on the
+               defaults ({"motor1": {"resistance_ohm": 6.0}}); None: defaults
+    plant_overrides  a dict merged into `plant` when that is a file
+    world      a world file (docs/world.md); None: the plain floor
+    contract   the sketch contract (docs/contracts.md); None: the reference
+               firmware's own, for other firmware none
+    seed       the encoders' noise seeds (encoder1 = seed, encoder2 = seed+1)
+    max_sim_s  the session's AVR-time limit [s] (RunEnded when reached)
+    baud       the host's serial adapter (8N1); None: bytes as sent
+    instruments  the ISR monitor, stack guard and race detector (default on)
+    """
+
+    def __init__(
+        self,
+        firmware: PathLike,
+        board: Optional[PathLike] = None,
+        world: Optional[PathLike] = None,
+        plant: Union[None, PathLike, dict] = None,
+        plant_overrides: Optional[dict] = None,
+        contract: Optional[PathLike] = None,
+        seed: Optional[int] = None,
+        max_sim_s: float = 3600.0,
+        baud: Optional[int] = None,
+        instruments: bool = True,
+    ):
+        overrides = {}
+        plant_file = None
+        if isinstance(plant, dict):
+            overrides = plant
+        elif plant is not None:
+            plant_file = os.fspath(plant)
+        if plant_overrides:
+            overrides = _merged(overrides, plant_overrides)
+        kw = {
+            "firmware": os.fspath(firmware),
+            "board": _path(board),
+            "world": _path(world),
+            "plant_file": plant_file,
+            "plant_overrides": json.dumps(overrides) if overrides else "",
+            "contract": _path(contract),
+            "seed": seed,
+            "max_sim_s": float(max_sim_s),
+            "baud": baud,
+            "instruments": bool(instruments),
+        }
+        self._core = _Session(kw)
+        self.serial = Serial(self._core)
+        self.truth = Truth(self._core)
+
+    # --- time ---------------------------------------------------------------
+    @property
+    def time_s(self) -> float:
+        """The AVR's time [s] (its cycle count at the board's clock)."""
+        return self._core.time_s
+
+    @property
+    def cycle(self) -> int:
+        return self._core.cycle
+
+    def run_for(self, seconds: float) -> "Session":
+        """Runs `seconds` more of AVR time."""
+        self._core.run_for(float(seconds))
+        return self
+
+    def run_until_serial(self, text: Union[str, bytes], timeout_s: float) -> "Session":
+        """Runs until the host receives `text` (after what it had received),
+        stopping right after its last byte; Timeout after `timeout_s` of AVR time."""
+        if isinstance(text, bytes):
+            text = text.decode("latin-1")
+        self._core.run_until_serial(text, float(timeout_s))
+        return self
+
+    def run_until(self, condition: Callable[["Session"], bool], timeout_s: float) -> "Session":
+        """Runs until condition(session) is true (checked every millisecond of
+        AVR time); Timeout after `timeout_s`."""
+        self._core.run_until(lambda: bool(condition(self)), float(timeout_s))
+        return self
+
+    def run_contract(self, case: Optional[int] = None) -> str:
+        """The sketch contract's run as `ddmr-hil run --case N` does it, on a
+        fresh session; returns the exit reason (report_complete when it
+        completed). The session cannot run on afterwards; save_artifacts()
+        writes the same files as `run`."""
+        return self._core.run_contract(case)
+
+    # --- the robot ----------------------------------------------------------
+    def pin(self, name: Union[str, int]) -> Pin:
+        return Pin(self._core, str(name))
+
+    def pwm(self, name: Union[str, int]) -> Pin:
+        return Pin(self._core, str(name))
+
+    def var(self, name: str, type: str = "") -> Var:
+        return Var(self._core, name, type)
+
+    def eeprom(self) -> bytes:
+        """The MCU's whole EEPROM now."""
+        return self._core.eeprom()
+
+    def warnings(self) -> list:
+        """The run's warnings so far (the wiring's, the parts')."""
+        return list(self._core.warnings())
+
+    # --- the end ------------------------------------------------------------
+    def save_artifacts(self, folder: PathLike) -> str:
+        """Ends the run (the session cannot run on) and writes the artifacts
+        `ddmr-hil run` writes (uart.txt, truth.csv, summary.json, ...) into
+        `folder`; returns the exit reason."""
+        self._core.save_artifacts(os.fspath(folder))
+        return self._core.exit_reason
+
+    @property
+    def exit_reason(self) -> str:
+        """summary.json's exit_reason once the run has ended, else ''."""
+        return self._core.exit_reason
+
+
+def _path(p: Optional[PathLike]) -> Optional[str]:
+    return None if p is None else os.fspath(p)
+
+
+def _merged(base: dict, over: dict) -> dict:
+    out = dict(base)
+    for k, v in over.items():
+        if isinstance(v, dict) and isinstance(out.get(k), dict):
+            out[k] = _merged(out[k], v)
+        else:
+            out[k] = v
+    return out
