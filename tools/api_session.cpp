@@ -6,18 +6,29 @@
 #include <algorithm>
 #include <cstdlib>
 #include <system_error>
+#include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "common/plant_yaml.hpp"
 #include "common/truth_csv.hpp"
 #include "firmware_run_plan.hpp"
 #include "hil/board_description.hpp"
 #include "plant/params_yaml.hpp"
+#include "scenario/step_parsers.hpp"
 
 namespace ddmr::tools {
 namespace {
 
 namespace fs = std::filesystem;
 using hil::Cycles;
+
+/// Whether FaultSteps runs step action A (parse_fault_step returns only those).
+template <typename A, typename = void>
+struct IsFault : std::false_type {};
+template <typename A>
+struct IsFault<A, std::void_t<decltype(std::declval<scenario::FaultSteps&>().run(std::declval<const A&>()))>>
+    : std::true_type {};
 
 /// A private folder for the streamed artifacts (mkdtemp: never shared).
 fs::path make_staging() {
@@ -129,6 +140,7 @@ ApiSession::ApiSession(const ApiOptions& options) : staging_(make_staging()) {
     hil::Session& session = run_->session();
     observer_ = std::make_unique<Observer>(session, *this);
     session.attach(*observer_);
+    faults_ = std::make_unique<scenario::FaultSteps>(session);
     std::string header = truth_csv_header(/*with_drive=*/true);
     header.pop_back();
     for (std::size_t at = 0;;) {
@@ -243,6 +255,36 @@ std::string ApiSession::run_contract(std::optional<int> test_case) {
     exit_reason_ = to_string(r.exit);
     ended_ = fmt::format("the contract's run has ended ({}): the session cannot run on", exit_reason_);
     return exit_reason_;
+}
+
+void ApiSession::fault(const std::string& kind, const std::string& value) {
+    check_running();
+    hil::Session& session = run_->session();
+    YAML::Node node;
+    try {
+        node = YAML::Load(value);
+    } catch (const YAML::Exception& e) {
+        throw std::invalid_argument(fmt::format("fault {}: not YAML or JSON: {}", kind, e.msg));
+    }
+    const scenario::yaml::Ctx c("fault()", node, kind, session.core().board(), &session.rig().config().board);
+    const std::optional<scenario::StepAction> action = scenario::yaml::parse_fault_step(kind, c);
+    if (!action) {
+        throw std::invalid_argument(fmt::format(
+            "fault '{}': not a fault (inject, stall, battery, slip, place, push, move-obstacle)", kind));
+    }
+    if (const auto* m = std::get_if<scenario::MoveObstacle>(&*action)) {
+        if (!plant::find_obstacle(session.rig().world(), m->name)) {
+            throw std::invalid_argument(fmt::format("move-obstacle: the world has no obstacle named '{}'", m->name));
+        }
+    }
+    std::visit(
+        [this](const auto& a) {
+            using A = std::decay_t<decltype(a)>;
+            if constexpr (IsFault<A>::value) {
+                (void)faults_->run(a);
+            }
+        },
+        *action);
 }
 
 void ApiSession::serial_write(const std::string& bytes) {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "firmware_run.hpp"
+#include "scenario/fault_steps.hpp"
 #include "hil/pin_waveforms.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 
@@ -89,6 +90,12 @@ public:
     /// session only. Returns summary.json's exit_reason.
     std::string run_contract(std::optional<int> test_case);
 
+    /// A scenario fault step (docs/scenarios.md, "Faults": inject, stall,
+    /// battery, slip, place, push, move-obstacle) with its value as YAML or
+    /// JSON text ({"motor": 2, "for": "300ms"}), checked as a scenario's is;
+    /// it acts now, and a timed one (for, over) goes on over AVR time.
+    void fault(const std::string& kind, const std::string& value);
+
     /// Types `bytes` into the firmware's serial port now.
     void serial_write(const std::string& bytes);
     /// Everything the host received; read_new(): what came since the last call.
@@ -128,6 +135,7 @@ private:
     std::filesystem::path staging_;
     std::unique_ptr<FirmwareRun> run_;
     std::unique_ptr<Observer> observer_;
+    std::unique_ptr<scenario::FaultSteps> faults_;
     std::vector<std::string> truth_columns_;
     std::vector<double> truth_rows_;
     std::map<int, std::unique_ptr<hil::PinWaveforms>> waveforms_;

@@ -105,6 +105,8 @@ void ContractWatch::on_host_byte(char c, hil::Cycles /*cycle*/) {
     if (plan_.reports) feed_report(c);
 }
 
+void ContractWatch::case_changed() { parser_ = hil::FirmwareReportParser(/*expects_eeprom_dump=*/plan_.test_case == 1); }
+
 void ContractWatch::watch_completion(char c) {
     if (!plan_.contract_completes || !plan_.contract->complete->text || done_) return;
     if (done_watch_.seen()) {

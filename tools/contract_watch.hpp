@@ -47,6 +47,9 @@ public:
     /// Whether the start cue and the completion act on the session (default
     /// on); off, they are only noted (a front end drives the run itself).
     void set_driving(bool driving) { driving_ = driving; }
+    /// The plan's case changed before the run (FirmwareRun::set_case): the
+    /// report's shape follows the case.
+    void case_changed();
     /// A last line without '\n' is matched against the report fields.
     void finish();
 

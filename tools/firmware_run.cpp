@@ -460,6 +460,7 @@ void FirmwareRun::set_case(int test_case) {
     }
     plan.test_case = test_case;
     plan.start_text = plan.contract->start_text(test_case);  // refuses a case the contract does not list
+    s_->watch->case_changed();
 }
 
 hil::SessionStop FirmwareRun::run_to_end() {

@@ -90,3 +90,30 @@ def test_bad_input_is_a_one_line_error(tmp_path, reference_elf):
     s.run_for(0.01)
     with pytest.raises(ddmr_hil.UsageError, match="fresh Session"):
         s.run_contract(case=1)
+
+
+def test_faults_act_as_the_scenario_steps_do(reference_elf):
+    s = Session(firmware=reference_elf, instruments=False)
+    s.run_for(1.0)  # in setup(): the robot stands still
+    s.push(dx_m=0.05, dtheta_rad=0.1)
+    assert s.truth.pose().x_m == pytest.approx(0.05, abs=1e-9)
+    assert s.truth.pose().theta_rad == pytest.approx(0.1, abs=1e-9)
+    s.place(x_m=0.2, y_m=-0.1, heading_deg=90)
+    assert s.truth.pose() == pytest.approx((0.2, -0.1, 1.5707963267948966), abs=1e-9)
+    s.run_for(4.1)
+    s.serial.write(b"1")
+    s.run_for(0.5)
+    s.fault("stall", motor="left", for_s=0.3)  # the left wheel is motor 2
+    s.run_for(0.2)
+    assert s.truth.history()["wheel2_rad_s"][-1] == 0.0
+    assert s.truth.history()["wheel1_rad_s"][-1] != 0.0
+    s.run_for(0.3)  # the stall is over
+    assert s.truth.history()["wheel2_rad_s"][-1] != 0.0
+    with pytest.raises(ddmr_hil.ConfigError, match=r"fault\(\):1: key 'stall.motor'"):
+        s.fault("stall", motor=3, for_s=0.1)
+    with pytest.raises(ddmr_hil.ConfigError, match="duration '-1.0s'"):
+        s.fault("stall", motor=1, for_s=-1)
+    with pytest.raises(ddmr_hil.ConfigError, match="not a fault"):
+        s.fault("dance")
+    with pytest.raises(ddmr_hil.ConfigError, match="no obstacle named 'box'"):
+        s.move_obstacle("box", dx_m=0.1)

@@ -117,6 +117,7 @@ PYBIND11_MODULE(_ddmr_hil, m) {
             py::gil_scoped_release free;
             return s.run_contract(test_case);
         })
+        .def("fault", &ApiSession::fault)
         .def("serial_write", [](ApiSession& s, const py::bytes& b) { s.serial_write(b.cast<std::string>()); })
         .def("serial_text", [](const ApiSession& s) { return py::bytes(s.serial_text()); })
         .def("serial_read_new", [](ApiSession& s) { return py::bytes(s.serial_read_new()); })

@@ -34,6 +34,9 @@ __all__ = [
     "Timeout",
     "RunEnded",
     "UsageError",
+    "sweep",
+    "grid",
+    "to_csv",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -228,6 +231,30 @@ class Session:
         writes the same files as `run`."""
         return self._core.run_contract(case)
 
+    # --- faults -------------------------------------------------------------
+    def fault(self, kind: str, **params) -> "Session":
+        """A scenario fault step, with the scenario's keys (docs/scenarios.md,
+        "Faults"): inject, stall, battery, slip, place, push, move-obstacle.
+        Durations as for_s= / over_s= in seconds (or the scenario's for= / over=
+        strings, "300ms"). It acts now; a timed one goes on over AVR time.
+
+            s.fault("stall", motor="left", for_s=0.5)
+            s.fault("inject", encoder=1, drop=0.05)"""
+        self._core.fault(kind.replace("_", "-"), json.dumps(_step_value(params)))
+        return self
+
+    def push(self, dx_m: float = 0.0, dy_m: float = 0.0, dtheta_rad: float = 0.0, over_s: float = 0.0) -> "Session":
+        """Displaces the robot (in the world frame), at once or evenly over over_s."""
+        return self.fault("push", dx_m=dx_m, dy_m=dy_m, dtheta_rad=dtheta_rad, over_s=over_s)
+
+    def place(self, x_m: float, y_m: float, heading_deg: float) -> "Session":
+        """Sets the robot down at this pose (odometry does not see it)."""
+        return self.fault("place", x_m=x_m, y_m=y_m, heading_deg=heading_deg)
+
+    def move_obstacle(self, name: str, dx_m: float = 0.0, dy_m: float = 0.0, over_s: float = 0.0) -> "Session":
+        """Slides the world's obstacle `name` (docs/world.md), at once or over over_s."""
+        return self.fault("move-obstacle", name=name, dx_m=dx_m, dy_m=dy_m, over_s=over_s)
+
     # --- the robot ----------------------------------------------------------
     def pin(self, name: Union[str, int]) -> Pin:
         return Pin(self._core, str(name))
@@ -260,6 +287,21 @@ class Session:
         return self._core.exit_reason
 
 
+def _step_value(params: dict) -> dict:
+    """Python keywords -> a scenario step's keys: for_s=0.5 -> for: "0.5s"."""
+    out = {}
+    for key, value in params.items():
+        if key in ("for_s", "over_s"):
+            if key == "over_s" and value == 0:
+                continue
+            out[key[:-2]] = f"{float(value)!r}s"
+        elif key in ("for_", "over_"):
+            out[key[:-1]] = value
+        else:
+            out[key] = value
+    return out
+
+
 def _path(p: Optional[PathLike]) -> Optional[str]:
     return None if p is None else os.fspath(p)
 
@@ -272,3 +314,6 @@ def _merged(base: dict, over: dict) -> dict:
         else:
             out[k] = v
     return out
+
+
+from ._sweep import grid, sweep, to_csv  # noqa: E402  (after Session: sweep uses it)
