@@ -15,6 +15,7 @@
 #include "firmware_run_plan.hpp"
 #include "hil/board_description.hpp"
 #include "plant/params_yaml.hpp"
+#include "scenario/step_failed.hpp"
 #include "scenario/step_parsers.hpp"
 
 namespace ddmr::tools {
@@ -42,9 +43,9 @@ fs::path make_staging() {
 
 /// The plant: its file or the defaults, the overrides merged in, the seed.
 plant::RobotParams resolve_plant(const ApiOptions& o, std::string& source) {
+    if (o.plant_file) plant::load_robot_params(*o.plant_file);  // its own messages name its file and line
     YAML::Node yaml = o.plant_file ? YAML::LoadFile(o.plant_file->string()) : default_plant_yaml();
     source = o.plant_file ? o.plant_file->string() : std::string("(embedded defaults)");
-    if (o.plant_file) plant::load_robot_params(*o.plant_file);  // its own messages name its file and line
     if (!o.plant_overrides.empty()) {
         YAML::Node over;
         try {
@@ -172,6 +173,7 @@ void ApiSession::end_run(hil::SessionStop stop) {
         case hil::SessionStop::kFailure:
         case hil::SessionStop::kWallLimit:
         case hil::SessionStop::kKilled: ended_ = session.end_message(stop); break;
+        case hil::SessionStop::kEnded: ended_ = "the run was ended"; break;
         case hil::SessionStop::kTimeLimit:
             ended_ = fmt::format("the session's time limit ({} s of AVR time) was reached", run_->options().max_sim_seconds);
             break;
@@ -212,8 +214,8 @@ void ApiSession::run_until_serial(const std::string& text, double timeout_s, con
     run_to(cycle() + hil::s_to_cycles(timeout_s, run_->session().core().clock_hz()),
            [this] { return observer_->seen(); }, between);
     if (!observer_->seen()) {
-        throw ApiTimeout(fmt::format("'{}' did not come within {} s of AVR time (from t = {:.3f} s to {:.3f} s)", text,
-                                     timeout_s, from, time_s()));
+        throw ApiTimeout(fmt::format("'{}' did not come within {} s of AVR time (from t = {:.3f} s to {:.3f} s)",
+                                     scenario::printable(text), timeout_s, from, time_s()));
     }
 }
 
@@ -277,14 +279,21 @@ void ApiSession::fault(const std::string& kind, const std::string& value) {
             throw std::invalid_argument(fmt::format("move-obstacle: the world has no obstacle named '{}'", m->name));
         }
     }
-    std::visit(
+    const bool ran = std::visit(
         [this](const auto& a) {
             using A = std::decay_t<decltype(a)>;
             if constexpr (IsFault<A>::value) {
                 (void)faults_->run(a);
+                return true;
+            } else {
+                return false;  // parse_fault_step also reads `reset`, a scenario step, not a fault
             }
         },
         *action);
+    if (!ran) {
+        throw std::invalid_argument(fmt::format(
+            "fault '{}': not a fault (inject, stall, battery, slip, place, push, move-obstacle)", kind));
+    }
 }
 
 void ApiSession::serial_write(const std::string& bytes) {

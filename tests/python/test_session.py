@@ -59,6 +59,8 @@ def test_a_wait_that_times_out_raises_timeout_and_the_session_goes_on(reference_
     assert s.time_s == pytest.approx(0.5, abs=1e-3)
     s.run_for(0.1)
     assert s.time_s == pytest.approx(0.6, abs=1e-3)
+    with pytest.raises(ddmr_hil.Timeout, match="did not come within 0.1 s"):
+        s.run_until_serial(b"\xb0", timeout_s=0.1)  # bytes go to the wire as they are
 
 
 def test_plant_overrides_and_seed_change_the_plant(tmp_path, reference_elf):
@@ -115,5 +117,7 @@ def test_faults_act_as_the_scenario_steps_do(reference_elf):
         s.fault("stall", motor=1, for_s=-1)
     with pytest.raises(ddmr_hil.ConfigError, match="not a fault"):
         s.fault("dance")
+    with pytest.raises(ddmr_hil.ConfigError, match="not a fault"):
+        s.fault("reset")  # a scenario step the fault parser also reads, not a fault
     with pytest.raises(ddmr_hil.ConfigError, match="no obstacle named 'box'"):
         s.move_obstacle("box", dx_m=0.1)

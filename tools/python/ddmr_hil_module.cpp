@@ -28,6 +28,13 @@ using ddmr::tools::ApiSession;
 
 namespace {
 
+/// Raises `type` with `what` (bytes that are not UTF-8 replaced, never a decode error instead).
+void raise(const py::exception<void>& type, const char* what) {
+    py::object text = py::reinterpret_steal<py::object>(
+        PyUnicode_DecodeUTF8(what, static_cast<py::ssize_t>(std::strlen(what)), "replace"));
+    PyErr_SetObject(type.ptr(), text.ptr());
+}
+
 /// Between chunks: Ctrl-C (or any pending signal handler's exception) stops the run.
 void check_signals() {
     py::gil_scoped_acquire gil;
@@ -77,18 +84,18 @@ PYBIND11_MODULE(_ddmr_hil, m) {
     py::register_exception_translator([](std::exception_ptr p) {  // NOLINT(performance-unnecessary-value-param)
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const py::cast_error&) {
+            throw;  // pybind11's own TypeError
         } catch (const ddmr::tools::ApiTimeout& e) {
-            timeout(e.what());
+            raise(timeout, e.what());
         } catch (const ddmr::tools::ApiRunEnded& e) {
-            run_ended(e.what());
+            raise(run_ended, e.what());
+        } catch (const std::invalid_argument& e) {
+            raise(config, e.what());
         } catch (const std::logic_error& e) {
-            if (dynamic_cast<const std::invalid_argument*>(&e) != nullptr) {
-                config(e.what());
-            } else {
-                usage(e.what());
-            }
+            raise(usage, e.what());
         } catch (const std::runtime_error& e) {
-            config(e.what());
+            raise(config, e.what());
         }
     });
 

@@ -1,7 +1,7 @@
 """Monte-Carlo over manufacturing tolerances with the real firmware in the
 loop (docs/python.md, "A Monte-Carlo study"): N plants whose motors' armature
-resistance, back-EMF and torque constants each lie uniformly within +-10 % of
-the defaults (seeded), each running the reference sketch's case 1 (the 0.6 m
+resistance and torque constant (= back-EMF constant in SI units) each lie
+uniformly within +-10 % of the defaults (seeded), each running the reference sketch's case 1 (the 0.6 m
 circle) in the HIL on a Dask LocalCluster. What fraction ends within 5 cm of
 the goal the firmware reports (Gx, Gy)?
 
@@ -46,7 +46,10 @@ def plants(n, seed, tolerance):
     for _ in range(n):
         p = {}
         for motor, params in DEFAULTS.items():
-            p[motor] = {k: round(v * (1.0 + rng.uniform(-tolerance, tolerance)), 9) for k, v in params.items()}
+            r = params["resistance_ohm"] * (1.0 + rng.uniform(-tolerance, tolerance))
+            k = params["torque_N_m_per_A"] * (1.0 + rng.uniform(-tolerance, tolerance))  # K_t = K_a in SI units
+            p[motor] = {"resistance_ohm": round(r, 9), "back_emf_V_s_per_rad": round(k, 9),
+                        "torque_N_m_per_A": round(k, 9)}
         out.append(p)
     return out
 

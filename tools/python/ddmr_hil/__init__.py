@@ -213,9 +213,7 @@ class Session:
     def run_until_serial(self, text: Union[str, bytes], timeout_s: float) -> "Session":
         """Runs until the host receives `text` (after what it had received),
         stopping right after its last byte; Timeout after `timeout_s` of AVR time."""
-        if isinstance(text, bytes):
-            text = text.decode("latin-1")
-        self._core.run_until_serial(text, float(timeout_s))
+        self._core.run_until_serial(text.encode() if isinstance(text, str) else bytes(text), float(timeout_s))
         return self
 
     def run_until(self, condition: Callable[["Session"], bool], timeout_s: float) -> "Session":

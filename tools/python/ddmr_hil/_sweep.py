@@ -202,11 +202,16 @@ def sweep(
         raise ConfigError("sweep: no plants")
     if seconds is not None and not (seconds > 0 and math.isfinite(seconds)):
         raise ConfigError(f"sweep: seconds {seconds} must be a positive number")
-    spec = SweepSpec(os.fspath(firmware), _opt(board), _opt(world), _opt(contract), case, seconds, int(seed),
+    # Absolute paths: a worker's working folder may be another.
+    spec = SweepSpec(os.path.abspath(firmware), _opt(board), _opt(world), _opt(contract), case, seconds, int(seed),
                      bool(instruments), measure)
-    # Checked here, before any work is sent: the firmware and files, the first plant.
-    Session(firmware=spec.firmware, board=spec.board, world=spec.world, contract=spec.contract,
-            plant=plant_list[0] or None, instruments=False)
+    # Checked here, before any work is sent: the firmware, the files, every plant.
+    for i, p in enumerate(plant_list):
+        try:
+            Session(firmware=spec.firmware, board=spec.board, world=spec.world, contract=spec.contract,
+                    plant=p or None, instruments=False)
+        except DdmrHilError as e:
+            raise ConfigError(f"plant {i} {json.dumps(p, sort_keys=True, default=str)}: {e}") from None
     if client == "serial":
         rows = []
         for i, p in enumerate(plant_list):
@@ -237,14 +242,21 @@ def _on_local_cluster(spec, plants, workers: Optional[int], progress: bool) -> L
     from dask.distributed import Client, LocalCluster
 
     n = workers or os.cpu_count() or 1
-    # The workers are new processes: they find the package through PYTHONPATH.
-    path = os.environ.get("PYTHONPATH", "")
-    if _package_parent() not in path.split(os.pathsep):
-        os.environ["PYTHONPATH"] = os.pathsep.join(p for p in [_package_parent(), path] if p)
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None) as cluster, Client(cluster) as client:
-        return _on_client(client, spec, plants, progress)
+    # The workers are new processes: they find the package through PYTHONPATH
+    # (set while they start, then as it was).
+    saved = os.environ.get("PYTHONPATH")
+    if _package_parent() not in (saved or "").split(os.pathsep):
+        os.environ["PYTHONPATH"] = os.pathsep.join(p for p in [_package_parent(), saved] if p)
+    try:
+        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                          dashboard_address=None) as cluster, Client(cluster) as client:
+            return _on_client(client, spec, plants, progress)
+    finally:
+        if saved is None:
+            os.environ.pop("PYTHONPATH", None)
+        else:
+            os.environ["PYTHONPATH"] = saved
 
 
 def _opt(p) -> Optional[str]:
-    return None if p is None else os.fspath(p)
+    return None if p is None else os.path.abspath(p)

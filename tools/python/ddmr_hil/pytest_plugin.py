@@ -57,13 +57,14 @@ def pytest_runtest_makereport(item, call):
     session = getattr(item, "_ddmr_hil_session", None)
     if session is None or not report.failed or report.when == "teardown":
         return
-    folder = item.config._tmp_path_factory.mktemp(f"hil-{item.name}"[:60], numbered=True)
+    name = "hil-" + "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in item.name)[:60]
     try:
+        folder = item.config._tmp_path_factory.mktemp(name, numbered=True)
         reason = session.save_artifacts(folder)
-        line = f"{folder} (exit reason: {reason})"
     except Exception as e:  # the report must not fail: say why there is nothing
-        line = f"not saved: {e}"
-    report.sections.append(("ddmr-hil artifacts", line))
+        report.sections.append(("ddmr-hil artifacts", f"not saved: {e}"))
+        return
+    report.sections.append(("ddmr-hil artifacts", f"{folder} (exit reason: {reason})"))
     item.user_properties.append(("hil_artifacts", str(folder)))
 
 

@@ -83,7 +83,8 @@ def main(argv: Optional[List[str]] = None) -> int:
         print(f"ddmr_hil.sweep: {e}", file=sys.stderr)
         return 2
     except OSError as e:
-        print(f"ddmr_hil.sweep: {e.filename}: {e.strerror}", file=sys.stderr)
+        where = f"{e.filename}: " if e.filename else ""
+        print(f"ddmr_hil.sweep: {where}{e.strerror or e}", file=sys.stderr)
         return 2
     print(f"ddmr_hil.sweep: {len(plants)} plants -> {a.out}", file=sys.stderr)
     return 0
