@@ -91,9 +91,9 @@ bench: build
 	    --benchmark_out_format=json
 	./$(BUILD)/tests/bench/ddmr_calibrate_bench --benchmark_out=$(BUILD)/bench/calibrate.json \
 	    --benchmark_out_format=json
-	PYTHONPATH=$(BUILD)/python /usr/bin/python3 tools/python/bench_api.py --build $(BUILD) \
+	PYTHONPATH=$(BUILD)/python /usr/bin/python3 tools/python/bench/bench_api.py --build $(BUILD) \
 	    --out $(BUILD)/bench/python.json
-	PYTHONPATH=$(BUILD)/python /usr/bin/python3 tools/python/monte_carlo_circle.py \
+	PYTHONPATH=$(BUILD)/python /usr/bin/python3 tools/python/examples/monte_carlo_circle.py \
 	    --firmware $(BUILD)/firmware/ddmr_tracking.elf --plants 200 --out $(BUILD)/bench/monte_carlo.json
 	/usr/bin/python3 tools/bench_table.py $(BUILD)/bench
 

@@ -6,7 +6,7 @@
 2. A Dask sweep of 16 plants (case 1) on a LocalCluster of 2 workers against
    1 worker; the speed-up of wall time. Goal: at least 1.7.
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/python/bench_api.py --build build --out build/bench/python.json
+    PYTHONPATH=build/python /usr/bin/python3 tools/python/bench/bench_api.py --build build --out build/bench/python.json
 """
 
 import argparse

@@ -5,7 +5,7 @@ uniformly within +-10 % of the defaults (seeded), each running the reference ske
 circle) in the HIL on a Dask LocalCluster. What fraction ends within 5 cm of
 the goal the firmware reports (Gx, Gy)?
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/python/monte_carlo_circle.py \\
+    PYTHONPATH=build/python /usr/bin/python3 tools/python/examples/monte_carlo_circle.py \\
         --firmware build/firmware/ddmr_tracking.elf --plants 200 --out build/bench/monte_carlo.json
 
 `make bench` runs it with 200 plants."""
