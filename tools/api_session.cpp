@@ -70,9 +70,8 @@ FirmwareRunOptions run_options(const ApiOptions& o, const fs::path& staging) {
     fo.firmware = o.firmware;
     if (o.contract) {
         fo.contract = *o.contract;
-    } else if (fs::exists(o.firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) &&
-               fs::equivalent(o.firmware, DDMR_DEFAULT_FIRMWARE)) {
-        fo.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract, as `run` takes it
+    } else {
+        fo.contract = reference_contract_for(o.firmware);  // as `run` takes it
     }
     fo.max_sim_seconds = o.max_sim_seconds;
     fo.max_wall_seconds = 1e9;  // a Python test runs as long as it likes (Ctrl-C stops it)

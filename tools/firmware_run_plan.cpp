@@ -92,6 +92,14 @@ hil::TracedVariable parse_trace_spec(const std::string& spec, const hil::ElfImag
     return v;
 }
 
+std::optional<std::filesystem::path> reference_contract_for(const std::filesystem::path& firmware) {
+    namespace fs = std::filesystem;
+    if (fs::exists(firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) && fs::equivalent(firmware, DDMR_DEFAULT_FIRMWARE)) {
+        return fs::path(DDMR_DEFAULT_CONTRACT);
+    }
+    return std::nullopt;
+}
+
 RunPlan plan_firmware_run(const FirmwareRunOptions& options) {
     RunPlan plan;
     std::optional<hil::SketchContract>& contract = plan.contract;

@@ -4,6 +4,7 @@
 // here (throws std::invalid_argument / std::runtime_error with one line
 // naming the bad value); run_firmware then builds its Session from the plan.
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,6 +44,10 @@ struct RunPlan {
     std::string sha256;
     hil::ZeroCallReport zero_calls;  ///< unguarded calls to address 0 in the ELF
 };
+
+/// The reference sketch's contract when `firmware` is the build's reference
+/// ELF itself (what `run` and the Python API take when no contract is given).
+std::optional<std::filesystem::path> reference_contract_for(const std::filesystem::path& firmware);
 
 /// Checks `options` and what they name; nothing is written.
 RunPlan plan_firmware_run(const FirmwareRunOptions& options);

@@ -13,6 +13,7 @@
 #include "common/sketch_build.hpp"
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "firmware_run_plan.hpp"
 #include "hil/board.hpp"
 #include "hil/board_description.hpp"
 #include "hil/plant_coupler.hpp"
@@ -243,9 +244,8 @@ FirmwareRunOptions run_options(const RunCli& cli, bool profile_always) {
     o.reference_protocol_required = o.case_given || o.ready_symbol_given;
     if (!cli.contract.empty()) {
         o.contract = cli.contract;
-    } else if (fs::exists(o.firmware) && fs::exists(DDMR_DEFAULT_FIRMWARE) &&
-               fs::equivalent(o.firmware, DDMR_DEFAULT_FIRMWARE)) {
-        o.contract = DDMR_DEFAULT_CONTRACT;  // the reference ELF: its sketch's contract
+    } else {
+        o.contract = reference_contract_for(o.firmware);  // the reference ELF: its sketch's contract
     }
     o.loop_mark_given = cli.loop_mark_option->count() > 0;
     for (const std::string& spec : cli.sends) o.sends.push_back(parse_send(spec));

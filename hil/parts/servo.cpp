@@ -42,6 +42,7 @@ public:
         const std::optional<int> pin = ctx.wired_pin("SIGNAL");
         if (pin && board_pin(core_.board(), *pin)->oc) {
             pin_ = *pin;
+            oc_channel_ = board_pin(core_.board(), pin_)->oc->channel;
             oc_.emplace(core_, std::vector<int>{pin_});
         }
     }
@@ -51,9 +52,7 @@ public:
         if (!oc_) return;
         oc_->advance_to(cycle);
         if (!oc_->timer_driven(pin_)) return;
-        const TimerOutputDecoder* timer = oc_->timer_of(pin_);
-        const int channel = board_pin(core_.board(), pin_)->oc->channel;
-        const Cycles period = timer->period_cycles(channel);
+        const Cycles period = oc_->timer_of(pin_)->period_cycles(oc_channel_);
         if (period == 0) return;  // a constant level: no pulses, the horn holds
         const double high_cycles = oc_->duty(pin_) * static_cast<double>(period);
         apply_width(cycles_to_s(static_cast<Cycles>(std::llround(high_cycles)), core_.clock_hz()) * 1e6, cycle);
@@ -109,6 +108,7 @@ private:
     SensorMount axis_;
     DrivenSignal none_;
     int pin_ = -1;
+    int oc_channel_ = 0;              ///< the pin's OCnx channel (0 = A)
     std::optional<PinWaveforms> oc_;  ///< the SIGNAL pin's waveform, when it has an OC unit
 };
 
