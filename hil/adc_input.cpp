@@ -114,6 +114,10 @@ void AdcInput::claim_high_channels() {
     avr_adc_t* adc = simavr_adc(core_.raw());
     if (adc == nullptr) throw std::runtime_error(std::string("AdcInput: simavr's ") + core_.mcu().label + " core has no ADC");
     for (avr_adc_mux_t& entry : adc->muxmode) {
+        if (entry.kind == ADC_MUX_REF && entry.diff >= kSimavrChannels && entry.diff < kHighChannels) {
+            high_[static_cast<std::size_t>(entry.diff - kSimavrChannels)] = &entry;  // claimed by another AdcInput on this core
+            continue;
+        }
         if (entry.kind != ADC_MUX_SINGLE || entry.src < kSimavrChannels || entry.src >= kHighChannels) continue;
         const auto channel = static_cast<unsigned>(entry.src);
         entry.kind = ADC_MUX_REF;  // simavr converts src [mV] as it is
