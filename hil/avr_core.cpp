@@ -260,6 +260,13 @@ uint8_t AvrCore::data(uint16_t address) const {
     return avr_->data[address];
 }
 
+void AvrCore::set_sram(uint16_t address, uint8_t value) {
+    if (address < mcu().sram_start || address > avr_->ramend) {
+        throw std::out_of_range("AVR data address " + std::to_string(address) + " is not in SRAM");
+    }
+    avr_->data[address] = value;
+}
+
 RunStop AvrCore::state_stop() const {
     if (avr_->state == cpu_Crashed) return RunStop::kCrashed;
     if (avr_->state == cpu_Done) return RunStop::kDone;

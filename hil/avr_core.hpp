@@ -89,6 +89,9 @@ public:
     /// A byte of data space (registers, I/O, SRAM), as the firmware would read it
     /// without side effects.
     uint8_t data(uint16_t address) const;
+    /// Writes a byte of SRAM as a debugger does (no write handler runs);
+    /// throws std::out_of_range for an address below SRAM or past RAMEND.
+    void set_sram(uint16_t address, uint8_t value);
     SimavrLog& log() { return log_; }
 
     /// Runs until the AVR clock reaches `target` (within one instruction), or a

@@ -222,20 +222,27 @@ void validate(const BoardWiring& board) {
     check_part_feeds(board);
 }
 
-std::vector<int> wired_pins(const BoardWiring& board) {
-    std::set<int> pins;
-    for (const WheelWiring& w : board.wheel) {
-        for (const InputWire& in : w.motor.input) {
-            if (in.on_pin()) pins.insert(in.pin);
+std::map<int, std::string> pin_uses(const BoardWiring& board) {
+    std::map<int, std::string> uses;  // the first use of a shared pin names it
+    for (std::size_t m = 0; m < 2; ++m) {
+        const WheelWiring& w = board.wheel[m];
+        for (const DriverRole r : kAllRoles) {
+            if (w.motor[r].on_pin()) uses.emplace(w.motor[r].pin, motor_key(board, m, r));
         }
-        for (unsigned s = 0; s < w.encoder.signals(); ++s) pins.insert(w.encoder.pin[s]);
+        for (unsigned s = 0; s < w.encoder.signals(); ++s) uses.emplace(w.encoder.pin[s], encoder_key(w.encoder, m, s));
     }
     for (const PartEntry& p : board.parts) {
         for (const auto& [key, v] : p.values) {
-            if (v.pin >= 0) pins.insert(v.pin);
+            if (v.pin >= 0) uses.emplace(v.pin, fmt::format("parts.{}.{}", p.name, key));
         }
     }
-    return {pins.begin(), pins.end()};
+    return uses;
+}
+
+std::vector<int> wired_pins(const BoardWiring& board) {
+    std::vector<int> pins;
+    for (const auto& [pin, key] : pin_uses(board)) pins.push_back(pin);
+    return pins;
 }
 
 void check_host_serial_pins(const BoardWiring& board, const UsartDesc& usart) {

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -110,5 +111,8 @@ BoardWiring load_board_file(const std::filesystem::path& path);
 
 /// Every pin the wiring drives or reads, for the parts that watch them.
 std::vector<int> wired_pins(const BoardWiring& board);
+/// The same pins, each with the board-file key that wires it
+/// ("wheels.right.encoder.OUT", "parts.sonar.ECHO"; a shared pin: its first).
+std::map<int, std::string> pin_uses(const BoardWiring& board);
 
 }  // namespace ddmr::hil

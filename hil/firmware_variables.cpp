@@ -1,7 +1,9 @@
 #include "hil/firmware_variables.hpp"
 
-#include <limits>
+#include <fmt/format.h>
 
+#include <cmath>
+#include <limits>
 
 namespace ddmr::hil {
 namespace {
@@ -56,6 +58,47 @@ std::optional<VarType> default_var_type(std::size_t size_bytes, FourByteDefault 
             return std::nullopt;
         default: return std::nullopt;
     }
+}
+
+namespace {
+
+template <typename T>
+std::array<uint8_t, 4> encode_le(T value) {
+    using U = std::conditional_t<sizeof(T) == 1, uint8_t, std::conditional_t<sizeof(T) == 2, uint16_t, uint32_t>>;
+    U u = 0;
+    std::memcpy(&u, &value, sizeof value);
+    std::array<uint8_t, 4> bytes{};
+    for (std::size_t i = 0; i < sizeof(T); ++i) bytes[i] = static_cast<uint8_t>((u >> (8 * i)) & 0xFFU);
+    return bytes;
+}
+
+template <typename T>
+std::array<uint8_t, 4> encode_integer(VarType type, double value) {
+    const auto lo = static_cast<double>(std::numeric_limits<T>::min());
+    const auto hi = static_cast<double>(std::numeric_limits<T>::max());
+    if (!(value >= lo && value <= hi) || std::trunc(value) != value) {
+        throw std::invalid_argument(fmt::format("{} is not a {} (an integer in [{}, {}])", value, to_string(type),
+                                                std::numeric_limits<T>::min(), std::numeric_limits<T>::max()));
+    }
+    return encode_le(static_cast<T>(value));
+}
+
+}  // namespace
+
+std::array<uint8_t, 4> encode_var(VarType type, double value) {
+    switch (type) {
+        case VarType::kInt8: return encode_integer<int8_t>(type, value);
+        case VarType::kUint8: return encode_integer<uint8_t>(type, value);
+        case VarType::kInt16: return encode_integer<int16_t>(type, value);
+        case VarType::kUint16: return encode_integer<uint16_t>(type, value);
+        case VarType::kInt32: return encode_integer<int32_t>(type, value);
+        case VarType::kUint32: return encode_integer<uint32_t>(type, value);
+        case VarType::kFloat: break;
+    }
+    if (!std::isfinite(value) || std::fabs(value) > static_cast<double>(std::numeric_limits<float>::max())) {
+        throw std::invalid_argument(fmt::format("{} is not a finite float (binary32)", value));
+    }
+    return encode_le(static_cast<float>(value));
 }
 
 double decode_var(VarType type, const std::array<uint8_t, 4>& bytes) {

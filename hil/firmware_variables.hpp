@@ -82,6 +82,12 @@ T decode_le(const std::array<uint8_t, 4>& bytes) {
 /// `type`. Every value of every type is exact in a double.
 double decode_var(VarType type, const std::array<uint8_t, 4>& bytes);
 
+/// `value` as `type`'s var_type_size(type) little-endian bytes (the rest 0).
+/// Throws std::invalid_argument naming the value and the type when an
+/// integer type cannot hold it exactly (a fraction, out of range) or a float
+/// is not finite or past binary32's range.
+std::array<uint8_t, 4> encode_var(VarType type, double value);
+
 /// The VarType of a C++ type (int8_t ... uint32_t, float).
 template <typename T>
 constexpr VarType var_type_of();

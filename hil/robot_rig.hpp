@@ -70,6 +70,7 @@ public:
     [[nodiscard]] std::vector<std::string> warnings() const;
     /// The board's `parts:` (hil/parts/part_set.hpp).
     const PartSet& parts() const { return parts_; }
+    PartSet& parts() { return parts_; }
     /// truth.csv's columns after the plant's: the world's (world_truth.hpp),
     /// then the parts' ("NAME.COLUMN"), and their values now.
     std::vector<std::string> extra_truth_columns() const;

@@ -1,4 +1,5 @@
 #include "api_session.hpp"
+#include "api_session_live.hpp"
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -6,9 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <system_error>
-#include <type_traits>
 #include <utility>
-#include <variant>
 
 #include "common/plant_yaml.hpp"
 #include "common/truth_csv.hpp"
@@ -16,20 +15,12 @@
 #include "hil/board_description.hpp"
 #include "plant/params_yaml.hpp"
 #include "scenario/step_failed.hpp"
-#include "scenario/step_parsers.hpp"
 
 namespace ddmr::tools {
 namespace {
 
 namespace fs = std::filesystem;
 using hil::Cycles;
-
-/// Whether FaultSteps runs step action A (parse_fault_step returns only those).
-template <typename A, typename = void>
-struct IsFault : std::false_type {};
-template <typename A>
-struct IsFault<A, std::void_t<decltype(std::declval<scenario::FaultSteps&>().run(std::declval<const A&>()))>>
-    : std::true_type {};
 
 /// A private folder for the streamed artifacts (mkdtemp: never shared).
 fs::path make_staging() {
@@ -86,110 +77,92 @@ FirmwareRunOptions run_options(const ApiOptions& o, const fs::path& staging) {
         fo.plant_source = source;
     }
     fo.instruments = o.instruments;
+    fo.profile = o.profile;
+    if (!o.loop_mark.empty()) {
+        fo.loop_mark = o.loop_mark;
+        fo.loop_mark_given = true;
+    }
     fo.contract_drives = false;  // run_contract() hands the run to the contract
     return fo;
 }
 
 }  // namespace
 
-/// What the host receives and the plant's truth, kept for the caller; it
-/// stops the running chunk when the awaited text arrives.
-class ApiSession::Observer final : public hil::SessionObserver {
-public:
-    Observer(hil::Session& session, ApiSession& api) : session_(session), api_(api) {}
-    void on_host_byte(char c, Cycles /*cycle*/) override {
-        text_.push_back(c);
-        if (!awaited_.empty() && !seen_ && text_.size() >= from_ + awaited_.size() &&
-            text_.compare(text_.size() - awaited_.size(), awaited_.size(), awaited_) == 0) {
-            seen_ = true;
-            session_.interrupt();
-        }
-    }
-    void on_truth(const hil::TruthSample& s) override {
-        append_truth_values(api_.truth_rows_, s, /*with_drive=*/true);
-        values_.clear();
-        session_.rig().extra_truth_values(values_);
-        api_.truth_rows_.insert(api_.truth_rows_.end(), values_.begin(), values_.end());
-    }
-    void await(const std::string& text) {
-        awaited_ = text;
-        from_ = text_.size();
-        seen_ = false;
-    }
-    bool seen() const { return seen_; }
-    const std::string& text() const { return text_; }
-
-private:
-    hil::Session& session_;
-    ApiSession& api_;
-    std::string text_;
-    std::string awaited_;
-    std::size_t from_ = 0;
-    bool seen_ = false;
-    std::vector<double> values_;
-};
-
-ApiSession::ApiSession(const ApiOptions& options) : staging_(make_staging()) {
+ApiSession::Live::Live(const ApiOptions& options) : staging(make_staging()) {
     try {
-        run_ = std::make_unique<FirmwareRun>(run_options(options, staging_));
+        run = std::make_unique<FirmwareRun>(run_options(options, staging));
     } catch (...) {
         std::error_code ignored;
-        fs::remove_all(staging_, ignored);
+        fs::remove_all(staging, ignored);
         throw;
     }
-    hil::Session& session = run_->session();
-    observer_ = std::make_unique<Observer>(session, *this);
-    session.attach(*observer_);
-    faults_ = std::make_unique<scenario::FaultSteps>(session);
+    hil::Session& session = run->session();
+    observer = std::make_unique<Observer>(session, truth_rows);
+    session.attach(*observer);
+    faults = std::make_unique<scenario::FaultSteps>(session);
     std::string header = truth_csv_header(/*with_drive=*/true);
     header.pop_back();
     for (std::size_t at = 0;;) {
         const std::size_t comma = header.find(',', at);
-        truth_columns_.push_back(header.substr(at, comma - at));
+        truth_columns.push_back(header.substr(at, comma - at));
         if (comma == std::string::npos) break;
         at = comma + 1;
     }
-    for (const std::string& c : session.rig().extra_truth_columns()) truth_columns_.push_back(c);
+    for (const std::string& c : session.rig().extra_truth_columns()) truth_columns.push_back(c);
 }
 
-ApiSession::~ApiSession() {
-    run_.reset();  // its writers' temporary files first
+ApiSession::Live::~Live() {
+    waveforms.clear();  // what watches the core goes before it
+    driver.reset();
+    faults.reset();
+    run.reset();  // its writers' temporary files too
     std::error_code ignored;
-    fs::remove_all(staging_, ignored);
+    fs::remove_all(staging, ignored);
 }
 
-Cycles ApiSession::cycle() { return run_->session().cycle(); }
-double ApiSession::time_s() { return run_->session().seconds(cycle()); }
+ApiSession::ApiSession(const ApiOptions& options) : options_(options), live_(start()) {}
+
+ApiSession::~ApiSession() = default;
+
+std::unique_ptr<ApiSession::Live> ApiSession::start() const { return std::make_unique<Live>(options_); }
+
+FirmwareRun& ApiSession::run() { return *live_->run; }
+const std::vector<std::string>& ApiSession::truth_columns() const { return live_->truth_columns; }
+const std::vector<double>& ApiSession::truth_rows() const { return live_->truth_rows; }
+const std::string& ApiSession::exit_reason() const { return live_->exit_reason; }
+
+Cycles ApiSession::cycle() { return run().session().cycle(); }
+double ApiSession::time_s() { return run().session().seconds(cycle()); }
 
 void ApiSession::check_running() const {
-    if (!ended_.empty()) throw ApiRunEnded(ended_);
+    if (!live_->ended.empty()) throw ApiRunEnded(live_->ended);
 }
 
 void ApiSession::end_run(hil::SessionStop stop) {
-    last_stop_ = stop;
-    hil::Session& session = run_->session();
+    live_->last_stop = stop;
+    hil::Session& session = run().session();
     switch (stop) {
         case hil::SessionStop::kFailure:
         case hil::SessionStop::kWallLimit:
-        case hil::SessionStop::kKilled: ended_ = session.end_message(stop); break;
-        case hil::SessionStop::kEnded: ended_ = "the run was ended"; break;
+        case hil::SessionStop::kKilled: live_->ended = session.end_message(stop); break;
+        case hil::SessionStop::kEnded: live_->ended = "the run was ended"; break;
         case hil::SessionStop::kTimeLimit:
-            ended_ = fmt::format("the session's time limit ({} s of AVR time) was reached", run_->options().max_sim_seconds);
+            live_->ended = fmt::format("the session's time limit ({} s of AVR time) was reached", run().options().max_sim_seconds);
             break;
         default: return;
     }
-    throw ApiRunEnded(ended_);
+    throw ApiRunEnded(live_->ended);
 }
 
 void ApiSession::run_to(Cycles target, const std::function<bool()>& stop_when, const Between& between) {
     check_running();
-    hil::Session& session = run_->session();
+    hil::Session& session = run().session();
     const Cycles chunk = hil::s_to_cycles(kChunkSeconds, session.core().clock_hz());
     hil::RunCondition until;
     if (stop_when) until.met = stop_when;
     while (session.cycle() < target) {
         const hil::SessionStop stop = session.run(std::min(target, session.cycle() + chunk), until);
-        last_stop_ = stop;
+        live_->last_stop = stop;
         if (stop != hil::SessionStop::kReachedCycle && stop != hil::SessionStop::kCondition) end_run(stop);
         if (stop_when && stop_when()) return;
         if (between) between();
@@ -200,7 +173,7 @@ void ApiSession::run_for(double seconds, const Between& between) {
     if (!(seconds >= 0.0) || !std::isfinite(seconds)) {
         throw std::invalid_argument(fmt::format("run_for({}): the AVR time must be a number of seconds >= 0", seconds));
     }
-    run_to(cycle() + hil::s_to_cycles(seconds, run_->session().core().clock_hz()), {}, between);
+    run_to(cycle() + hil::s_to_cycles(seconds, run().session().core().clock_hz()), {}, between);
 }
 
 void ApiSession::run_until_serial(const std::string& text, double timeout_s, const Between& between) {
@@ -208,11 +181,11 @@ void ApiSession::run_until_serial(const std::string& text, double timeout_s, con
     if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) {
         throw std::invalid_argument(fmt::format("run_until_serial: timeout_s {} must be a positive number", timeout_s));
     }
-    observer_->await(text);
+    live_->observer->await(text);
     const double from = time_s();
-    run_to(cycle() + hil::s_to_cycles(timeout_s, run_->session().core().clock_hz()),
-           [this] { return observer_->seen(); }, between);
-    if (!observer_->seen()) {
+    run_to(cycle() + hil::s_to_cycles(timeout_s, run().session().core().clock_hz()),
+           [this] { return live_->observer->seen(); }, between);
+    if (!live_->observer->seen()) {
         throw ApiTimeout(fmt::format("'{}' did not come within {} s of AVR time (from t = {:.3f} s to {:.3f} s)",
                                      scenario::printable(text), timeout_s, from, time_s()));
     }
@@ -223,7 +196,7 @@ void ApiSession::run_until(const std::function<bool()>& condition, double timeou
         throw std::invalid_argument(fmt::format("run_until: timeout_s {} must be a positive number", timeout_s));
     }
     if (condition()) return;
-    const uint32_t clock_hz = run_->session().core().clock_hz();
+    const uint32_t clock_hz = run().session().core().clock_hz();
     const Cycles end = cycle() + hil::s_to_cycles(timeout_s, clock_hz);
     const Cycles ms = hil::s_to_cycles(1e-3, clock_hz);
     const double from = time_s();
@@ -244,73 +217,31 @@ std::string ApiSession::run_contract(std::optional<int> test_case) {
     if (cycle() != 0) {
         throw std::logic_error("run_contract() runs the sketch contract from reset: call it on a fresh Session");
     }
-    if (!run_->plan().contract) {
+    if (!run().plan().contract) {
         throw std::invalid_argument(fmt::format("run_contract: {} has no sketch contract (Session(contract=FILE), "
                                                 "docs/contracts.md)",
-                                                run_->options().firmware.string()));
+                                                run().options().firmware.string()));
     }
-    if (test_case) run_->set_case(*test_case);
-    const hil::SessionStop stop = run_->run_to_end();
-    last_stop_ = stop;
-    const FirmwareRunResult r = run_->finish(stop);
-    exit_reason_ = to_string(r.exit);
-    ended_ = fmt::format("the contract's run has ended ({}): the session cannot run on", exit_reason_);
-    return exit_reason_;
+    if (test_case) run().set_case(*test_case);
+    const hil::SessionStop stop = run().run_to_end();
+    live_->last_stop = stop;
+    const FirmwareRunResult r = run().finish(stop);
+    live_->exit_reason = to_string(r.exit);
+    live_->ended = fmt::format("the contract's run has ended ({}): the session cannot run on", live_->exit_reason);
+    return live_->exit_reason;
 }
 
-void ApiSession::fault(const std::string& kind, const std::string& value) {
-    check_running();
-    hil::Session& session = run_->session();
-    YAML::Node node;
-    try {
-        node = YAML::Load(value);
-    } catch (const YAML::Exception& e) {
-        throw std::invalid_argument(fmt::format("fault {}: not YAML or JSON: {}", kind, e.msg));
-    }
-    const scenario::yaml::Ctx c("fault()", node, kind, session.core().board(), &session.rig().config().board);
-    const std::optional<scenario::StepAction> action = scenario::yaml::parse_fault_step(kind, c);
-    if (!action) {
-        throw std::invalid_argument(fmt::format(
-            "fault '{}': not a fault (inject, stall, battery, slip, place, push, move-obstacle)", kind));
-    }
-    if (const auto* m = std::get_if<scenario::MoveObstacle>(&*action)) {
-        if (!plant::find_obstacle(session.rig().world(), m->name)) {
-            throw std::invalid_argument(fmt::format("move-obstacle: the world has no obstacle named '{}'", m->name));
-        }
-    }
-    const bool ran = std::visit(
-        [this](const auto& a) {
-            using A = std::decay_t<decltype(a)>;
-            if constexpr (IsFault<A>::value) {
-                (void)faults_->run(a);
-                return true;
-            } else {
-                return false;  // parse_fault_step also reads `reset`, a scenario step, not a fault
-            }
-        },
-        *action);
-    if (!ran) {
-        throw std::invalid_argument(fmt::format(
-            "fault '{}': not a fault (inject, stall, battery, slip, place, push, move-obstacle)", kind));
-    }
-}
-
-void ApiSession::serial_write(const std::string& bytes) {
-    check_running();
-    run_->session().send(bytes);
-}
-
-const std::string& ApiSession::serial_text() const { return observer_->text(); }
+const std::string& ApiSession::serial_text() const { return live_->observer->text(); }
 
 std::string ApiSession::serial_read_new() {
-    const std::string& t = observer_->text();
-    std::string out = t.substr(std::min(read_mark_, t.size()));
-    read_mark_ = t.size();
+    const std::string& t = live_->observer->text();
+    std::string out = t.substr(std::min(live_->read_mark, t.size()));
+    live_->read_mark = t.size();
     return out;
 }
 
 int ApiSession::pin_number(const std::string& name) {
-    const hil::BoardDescription& board = run_->session().core().board();
+    const hil::BoardDescription& board = run().session().core().board();
     const std::optional<int> pin = hil::parse_pin_name(board, name);
     if (!pin) {
         throw std::invalid_argument(
@@ -320,9 +251,9 @@ int ApiSession::pin_number(const std::string& name) {
 }
 
 bool ApiSession::pin_level(int pin) {
-    hil::AvrCore& core = run_->session().core();
+    hil::AvrCore& core = run().session().core();
     const hil::PinInfo info = *hil::board_pin(core.board(), pin);
-    auto& w = waveforms_[pin];
+    auto& w = live_->waveforms[pin];
     if (!w) w = std::make_unique<hil::PinWaveforms>(core, std::vector<int>{pin});
     w->advance_to(core.cycle());
     if (w->mode(pin) == hil::PinMode::output) return w->level_at(pin, core.cycle());
@@ -330,37 +261,37 @@ bool ApiSession::pin_level(int pin) {
 }
 
 double ApiSession::pwm_duty(int pin) {
-    hil::AvrCore& core = run_->session().core();
+    hil::AvrCore& core = run().session().core();
     (void)pin_level(pin);  // builds and advances its waveform
-    const hil::PinWaveforms& w = *waveforms_[pin];
+    const hil::PinWaveforms& w = *live_->waveforms[pin];
     return w.mode(pin) == hil::PinMode::output ? w.duty(pin) : 0.0;
 }
 
 double ApiSession::var_read(const std::string& name, const std::string& type) {
-    hil::Session& session = run_->session();
+    hil::Session& session = run().session();
     const hil::TracedVariable v = parse_trace_spec(type.empty() ? name : name + ":" + type, session.elf());
     return session.rig().variables().read(v.name, v.type);
 }
 
-plant::Pose ApiSession::pose() { return run_->session().rig().robot().pose(); }
+plant::Pose ApiSession::pose() { return run().session().rig().robot().pose(); }
 
 std::vector<uint8_t> ApiSession::eeprom() {
-    const hil::EepromImage image = run_->session().rig().eeprom().read_all();
+    const hil::EepromImage image = run().session().rig().eeprom().read_all();
     return {image.begin(), image.end()};
 }
 
-std::vector<std::string> ApiSession::warnings() { return run_->session().rig().warnings(); }
+std::vector<std::string> ApiSession::warnings() { return run().session().rig().warnings(); }
 
 void ApiSession::save_artifacts(const fs::path& dir) {
-    if (!run_->finished()) {
-        const FirmwareRunResult r = run_->finish(last_stop_);
-        exit_reason_ = to_string(r.exit);
-        if (ended_.empty()) ended_ = "the session's artifacts were saved: it cannot run on (start a new Session)";
+    if (!run().finished()) {
+        const FirmwareRunResult r = run().finish(live_->last_stop);
+        live_->exit_reason = to_string(r.exit);
+        if (live_->ended.empty()) live_->ended = "the session's artifacts were saved: it cannot run on (start a new Session)";
     }
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw std::runtime_error(fmt::format("save_artifacts: cannot create {}: {}", dir.string(), ec.message()));
-    for (const auto& e : fs::directory_iterator(staging_)) {
+    for (const auto& e : fs::directory_iterator(live_->staging)) {
         if (!e.is_regular_file()) continue;
         // Each file whole or not at all: copied beside its place, then renamed.
         const fs::path partial = dir / ("." + e.path().filename().string() + ".partial");

@@ -5,8 +5,16 @@
 // artifacts stream into a private staging folder, plus what a test asks of
 // a running robot: run for a time, until a serial text or a condition; type
 // into the serial port; read pins, PWM duties, globals, the pose, the truth
-// so far and the EEPROM. save_artifacts() ends the run and copies the
-// artifacts; run_contract() runs the sketch contract as `run` does.
+// so far and the EEPROM; drive an input pin, write a global, hold a
+// sensor's reading. save_artifacts() ends the run and copies the artifacts;
+// run_contract() runs the sketch contract as `run` does.
+//
+// Snapshots: every act on the robot (serial bytes, faults, pin drives,
+// global writes, held readings) is logged with its cycle. restore() builds
+// the session again from reset and replays the log up to the snapshot's
+// cycle. The engine is deterministic and stops at exact instruction
+// boundaries, so the state (and every artifact) equals the one the snapshot
+// was taken in; the cost is the snapshot's AVR time, simulated again.
 //
 // Every run is chunked (kChunkSeconds of AVR time) and calls the caller's
 // `between` hook between chunks (the Python binding checks for Ctrl-C
@@ -21,12 +29,14 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "firmware_run.hpp"
 #include "scenario/fault_steps.hpp"
+#include "hil/loop_profiler.hpp"
 #include "hil/pin_waveforms.hpp"
 #include "plant/diff_drive_kinematics.hpp"
 
@@ -61,6 +71,44 @@ struct ApiOptions {
     double max_sim_seconds = 3600.0;  ///< the session's AVR-time limit [s]
     std::optional<uint32_t> baud;     ///< the host's serial adapter (8N1); unset: bytes as sent
     hil::SessionInstruments instruments{};
+    /// The loop profiler (exact compute / wait / period per iteration;
+    /// single-steps: slower), for loop_profile().
+    bool profile = false;
+    std::string loop_mark;  ///< the function each iteration calls once; "": as `run` picks it
+};
+
+/// One act on the robot, at the AVR cycle it happened (ApiSession's log).
+struct ApiAction {
+    struct SerialWrite {
+        std::string bytes;
+    };
+    struct Fault {
+        std::string kind, value;
+    };
+    struct PinDrive {
+        int pin = -1;
+        bool level = false;
+    };
+    struct VarWrite {
+        std::string name, type;
+        double value = 0.0;
+    };
+    struct SensorSet {
+        std::string part, reading;
+        std::optional<double> value;
+    };
+    struct LoopProfileStart {};
+    hil::Cycles at = 0;
+    using Act = std::variant<SerialWrite, Fault, PinDrive, VarWrite, SensorSet, LoopProfileStart>;
+    Act act;
+};
+
+/// A session's state at a cycle, to return to with ApiSession::restore.
+struct ApiSnapshot {
+    const void* session = nullptr;  ///< the ApiSession that took it
+    hil::Cycles cycle = 0;
+    std::vector<ApiAction> log;     ///< every act before `cycle`
+    std::size_t read_mark = 0;      ///< serial_read_new()'s mark
 };
 
 class ApiSession {
@@ -98,6 +146,33 @@ public:
 
     /// Types `bytes` into the firmware's serial port now.
     void serial_write(const std::string& bytes);
+    /// Drives input pin `pin` to `level` from now on, as a switch or a
+    /// signal generator on the pin (hil/pin_driver.hpp). Throws
+    /// std::invalid_argument for a pin the board wires (naming the key) or
+    /// the host serial port's.
+    void pin_drive(int pin, bool level);
+    /// Writes global `name` as `type` ("" by its size), as a debugger does.
+    /// Throws std::invalid_argument for a value the type cannot hold.
+    void var_write(const std::string& name, const std::string& type, double value);
+    /// Holds part `part`'s reading from the next plant step on (nullopt:
+    /// the world's again); PartSet::set_reading's checks and messages.
+    void sensor_set(const std::string& part, const std::string& reading, std::optional<double> value);
+
+    /// isr.json's content so far (the ISR monitor's statistics and the race
+    /// detector's findings); throws std::logic_error when the instruments are off.
+    [[nodiscard]] std::string isr_stats_json();
+    /// Starts the loop profile at the next return of the loop mark (`run`
+    /// starts it when it sends the contract's start text).
+    void loop_profile_start();
+    /// The control loop's iterations so far (ApiOptions::profile).
+    [[nodiscard]] const std::vector<hil::LoopIteration>& loop_profile();
+
+    /// The state now, to restore() later; std::logic_error once the run ended.
+    [[nodiscard]] ApiSnapshot snapshot();
+    /// Back to `snap` (this session's): the session built again and its log
+    /// replayed (see the top of this file). The session before stays as it
+    /// was when a replay fails or is stopped.
+    void restore(const ApiSnapshot& snap, const Between& between = {});
     /// Everything the host received; read_new(): what came since the last call.
     [[nodiscard]] const std::string& serial_text() const;
     std::string serial_read_new();
@@ -115,8 +190,8 @@ public:
 
     [[nodiscard]] plant::Pose pose();
     /// truth.csv's columns and every row so far (row-major).
-    [[nodiscard]] const std::vector<std::string>& truth_columns() const { return truth_columns_; }
-    [[nodiscard]] const std::vector<double>& truth_rows() const { return truth_rows_; }
+    [[nodiscard]] const std::vector<std::string>& truth_columns() const;
+    [[nodiscard]] const std::vector<double>& truth_rows() const;
     [[nodiscard]] std::vector<uint8_t> eeprom();
     [[nodiscard]] std::vector<std::string> warnings();
 
@@ -124,25 +199,21 @@ public:
     /// into `dir` (created if missing); later calls copy them again.
     void save_artifacts(const std::filesystem::path& dir);
     /// The run's exit_reason once it has ended ("" before).
-    [[nodiscard]] const std::string& exit_reason() const { return exit_reason_; }
+    [[nodiscard]] const std::string& exit_reason() const;
 
 private:
     class Observer;
+    struct Live;
+    std::unique_ptr<Live> start() const;
+    void act(ApiAction::Act act);
+    void apply(const ApiAction::Act& act);
     void run_to(hil::Cycles target, const std::function<bool()>& stop_when, const Between& between);
     void check_running() const;
     void end_run(hil::SessionStop stop);
+    FirmwareRun& run();
 
-    std::filesystem::path staging_;
-    std::unique_ptr<FirmwareRun> run_;
-    std::unique_ptr<Observer> observer_;
-    std::unique_ptr<scenario::FaultSteps> faults_;
-    std::vector<std::string> truth_columns_;
-    std::vector<double> truth_rows_;
-    std::map<int, std::unique_ptr<hil::PinWaveforms>> waveforms_;
-    std::size_t read_mark_ = 0;
-    hil::SessionStop last_stop_ = hil::SessionStop::kReachedCycle;
-    std::string ended_;       ///< why the run cannot go on ("" while it can)
-    std::string exit_reason_;
+    ApiOptions options_;
+    std::unique_ptr<Live> live_;
 };
 
 }  // namespace ddmr::tools

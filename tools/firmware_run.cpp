@@ -463,6 +463,8 @@ void FirmwareRun::set_case(int test_case) {
     s_->watch->case_changed();
 }
 
+hil::LoopProfiler* FirmwareRun::loop_profiler() { return s_->profilers.loop ? &*s_->profilers.loop : nullptr; }
+
 hil::SessionStop FirmwareRun::run_to_end() {
     State& st = *s_;
     if (st.finished) throw std::logic_error("the run has finished: its artifacts are written");

@@ -227,6 +227,8 @@ public:
     /// artifacts, returns the result. Once.
     FirmwareRunResult finish(hil::SessionStop stop);
     bool finished() const;
+    /// The loop profiler (FirmwareRunOptions::profile), or nullptr.
+    hil::LoopProfiler* loop_profiler();
 
 private:
     struct State;

@@ -72,6 +72,10 @@ void append_type_text(std::string& t, const PartType& type) {
     if (!type.ports.empty()) t += "      outputs (other parts read them as NAME.PORT):\n";
     for (const PartPort& p : type.ports) t += fmt::format("        {:<{}}  {}\n", p.name, name_w, p.description);
     if (!type.plant_parameters.empty()) t += fmt::format("      plant parameters: {}\n", type.plant_parameters);
+    if (!type.readings.empty()) t += "      readings a test may hold (Python: sensor(NAME).set):\n";
+    for (const hil::SettableReading& r : type.readings) {
+        t += fmt::format("        {}  {}..{}  {}\n", r.name, r.lo, r.hi, r.description);
+    }
 }
 
 /// A table cell: '|' escaped, no line breaks.
@@ -121,6 +125,12 @@ void append_type_markdown(std::string& t, const PartType& type) {
     if (!type.ports.empty()) {
         t += "| output port | meaning |\n| --- | --- |\n";
         for (const PartPort& p : type.ports) t += fmt::format("| `{}` | {} |\n", p.name, cell(p.description));
+    }
+    if (!type.readings.empty()) {
+        t += "\n| reading a test may hold (`sensor(NAME).set`, docs/python.md) | values | meaning |\n| --- | --- | --- |\n";
+        for (const hil::SettableReading& r : type.readings) {
+            t += fmt::format("| `{}` | [{}, {}] | {} |\n", r.name, r.lo, r.hi, cell(r.description));
+        }
     }
 }
 

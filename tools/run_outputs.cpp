@@ -15,15 +15,19 @@ namespace ddmr::tools {
 using hil::Cycles;
 using nlohmann::json;
 
+void tag_eeprom_writes(hil::LoopProfiler& loop, hil::RobotRig& rig) {
+    std::vector<Cycles> write_cycles;
+    for (const auto& w : rig.eeprom_timing().writes()) write_cycles.push_back(w.cycle);
+    loop.tag_eeprom_writes(write_cycles);
+}
+
 ProfileOutputs profile_outputs(hil::Session& session, const RunPlan& plan, const FirmwareRunOptions& options,
                                Profilers& profilers, FirmwareRunResult& result) {
     ProfileOutputs out;
     hil::RobotRig& rig = session.rig();
     const uint32_t clock_hz = session.core().clock_hz();
     if (profilers.loop) {
-        std::vector<Cycles> write_cycles;
-        for (const auto& w : rig.eeprom_timing().writes()) write_cycles.push_back(w.cycle);
-        profilers.loop->tag_eeprom_writes(write_cycles);
+        tag_eeprom_writes(*profilers.loop, rig);
         result.loop_profile = profilers.loop->iterations();
         out.loop_profile = loop_profile_json(result.loop_profile, clock_hz);
         out.loop_profile["eeprom_writes_all_tagged"] = rig.eeprom_timing().all_writes_recorded();

@@ -45,6 +45,10 @@ struct ProfileOutputs {
     std::string callgrind_txt;
 };
 
+/// Marks the loop profile's iterations that started an EEPROM write in their
+/// compute (the first EepromWriteTiming::kMaxRecordedWrites writes).
+void tag_eeprom_writes(hil::LoopProfiler& loop, hil::RobotRig& rig);
+
 /// Tags the loop profile's EEPROM writes and makes the profile outputs;
 /// fills result.loop_profile and result.function_profile_top.
 ProfileOutputs profile_outputs(hil::Session& session, const RunPlan& plan, const FirmwareRunOptions& options,

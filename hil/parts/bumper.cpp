@@ -50,6 +50,7 @@ public:
         out.push_back(pressed_ ? 1.0 : 0.0);
         out.push_back(static_cast<double>(presses_));
     }
+    void set_reading(const std::string& /*name*/, std::optional<double> value) override { held_ = value; }
     void on_plant_step(Cycles pose_cycle) override {
         const bool pressed = touching();
         if (pressed == pressed_) return;
@@ -66,6 +67,7 @@ public:
 
 private:
     [[nodiscard]] bool touching() const {
+        if (held_) return *held_ >= 0.5;
         return plant::nearest_wall_distance(world_, world_point(pose_(), mount_)) <= reach_m_;
     }
     /// The pin's level: LOW while closed; open, the pull-up's (floating: LOW).
@@ -82,6 +84,7 @@ private:
     PinProbe probe_;
     DrivenSignal none_;
     bool pressed_ = false;
+    std::optional<double> held_;  ///< set_reading's switch
     uint64_t presses_ = 0;
 };
 
@@ -90,6 +93,7 @@ private:
 PartType bumper_type() {
     PartType t;
     t.type = "bumper";
+    t.readings = {{"pressed", "1: the switch is closed, 0: open (bounces as a contact does)", 0.0, 1.0}};
     t.summary = "bumper switch to ground (INPUT_PULLUP): LOW while a wall touches its lever, with optional bounce";
     t.datasheet = "ATmega328P 13.2.1 and 28.2 (pull-up 20-50 kOhm); Omron B3FS/B3S (bounce 5 ms max)";
     t.keys = {PartKey::output("OUT", "the pin the switch pulls to ground (the sketch sets INPUT_PULLUP)")};

@@ -30,6 +30,7 @@ public:
     const LogicSignal& output(const std::string& /*port*/) const override { return none_; }
     std::vector<std::string> truth_columns() const override { return {"detected"}; }
     void truth_values(std::vector<double>& out) const override { out.push_back(detected_ ? 1.0 : 0.0); }
+    void set_reading(const std::string& /*name*/, std::optional<double> value) override { held_ = value; }
     void on_plant_step(Cycles pose_cycle) override {
         const bool detected = sees(pose_cycle);
         if (detected == detected_) return;
@@ -39,6 +40,7 @@ public:
 
 private:
     [[nodiscard]] bool sees(Cycles cycle) const {
+        if (held_) return *held_ >= 0.5;
         const plant::Pose pose = pose_();
         const SensorMount mount = placement_.at(cycle);
         plant::Cone cone;
@@ -61,6 +63,7 @@ private:
     PinDriver driver_;
     DrivenSignal none_;
     bool detected_ = false;
+    std::optional<double> held_;  ///< set_reading's detection
 };
 
 }  // namespace
@@ -68,6 +71,7 @@ private:
 PartType ir_obstacle_type() {
     PartType t;
     t.type = "ir-obstacle";
+    t.readings = {{"detected", "1: an obstacle in range, 0: none", 0.0, 1.0}};
     t.summary = "IR obstacle module (FC-51 style): OUT LOW while a wall is within its set range";
     t.datasheet = "module-specific: SunFounder avoidance module page (2-30 cm, normally high, LOW on an obstacle); "
                   "Waveshare (35 degrees)";

@@ -72,6 +72,14 @@ struct SensorMount {
     double heading_rad = 0.0;  ///< a directional sensor's axis (0: straight ahead)
 };
 
+/// A reading a test may hold in place of what the part sees in the world
+/// (the Python API's sensor(NAME).set(KEY=VALUE), docs/python.md).
+struct SettableReading {
+    std::string name;         ///< with its unit: "distance_m", "reflectance"
+    std::string description;  ///< one line
+    double lo = 0.0, hi = 0.0;  ///< the values it takes
+};
+
 /// An output other parts can read as "NAME.PORT".
 struct PartPort {
     std::string name;
@@ -163,6 +171,10 @@ public:
     /// What the part saw the firmware do that it does not model (an IMU's
     /// DMP registers), one line each, for the run's warnings.
     [[nodiscard]] virtual std::vector<std::string> warnings() const { return {}; }
+    /// Holds reading `name` (one of its type's `readings`, `value` in range:
+    /// PartSet::set_reading checks) from the next plant step on, in place of
+    /// the world's; nullopt: the world's again. Must not throw.
+    virtual void set_reading(const std::string& /*name*/, std::optional<double> /*value*/) {}
 };
 
 /// A board-file key of an entry its type cannot use on this board, and why.
@@ -187,6 +199,8 @@ struct PartType {
     /// analog output on a pin without an ADC input, an I2C device off the
     /// TWI pins); none: every pin the keys accept will do.
     std::function<std::optional<PartKeyProblem>(const PartEntry&, const BoardDescription&)> check;
+    /// The readings a test may hold in place of the world's (Part::set_reading); empty: none.
+    std::vector<SettableReading> readings;
     /// Other parts may sit on it (a carrier key names it: a servo carries a sonar).
     bool carries_parts = false;
     std::optional<MotorDriverSpec> motor_driver;  ///< set: a motor driver type

@@ -1,6 +1,7 @@
 #include "hil/parts/part_set.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -211,6 +212,33 @@ std::vector<std::string> PartSet::warnings() const {
 
 void PartSet::truth_values(std::vector<double>& out) const {
     for (const Built& b : parts_) b.part->truth_values(out);
+}
+
+void PartSet::set_reading(const std::string& name, const std::string& reading, std::optional<double> value) {
+    std::vector<std::string> settable_parts;
+    for (const Built& b : parts_) {
+        if (!b.type->readings.empty()) settable_parts.push_back(fmt::format("{} ({})", b.name, b.type->type));
+    }
+    const auto it = std::find_if(parts_.begin(), parts_.end(), [&](const Built& b) { return b.name == name; });
+    if (it == parts_.end() || it->type->readings.empty()) {
+        throw std::invalid_argument(fmt::format(
+            "sensor '{}': {}; the board's parts with settable readings are: {}", name,
+            it == parts_.end() ? "the board has no such part" : "its readings cannot be set (" + it->type->type + ")",
+            settable_parts.empty() ? std::string("none") : fmt::format("{}", fmt::join(settable_parts, ", "))));
+    }
+    const std::vector<SettableReading>& readings = it->type->readings;
+    const auto r = std::find_if(readings.begin(), readings.end(), [&](const SettableReading& s) { return s.name == reading; });
+    if (r == readings.end()) {
+        std::vector<std::string> names(readings.size());
+        std::transform(readings.begin(), readings.end(), names.begin(), [](const SettableReading& s) { return s.name; });
+        throw std::invalid_argument(fmt::format("sensor '{}' ({}) has no reading '{}'; it has: {}", name,
+                                                it->type->type, reading, fmt::join(names, ", ")));
+    }
+    if (value && !(*value >= r->lo && *value <= r->hi)) {
+        throw std::invalid_argument(fmt::format("sensor '{}': {} = {} is outside [{}, {}] ({})", name, reading, *value,
+                                                r->lo, r->hi, r->description));
+    }
+    it->part->set_reading(reading, value);
 }
 
 void PartSet::on_plant_step(Cycles pose_cycle) {

@@ -64,6 +64,10 @@ public:
     /// Each part's warnings, "part 'NAME': ..." (Part::warnings).
     [[nodiscard]] std::vector<std::string> warnings() const;
     void truth_values(std::vector<double>& out) const;
+    /// Holds part `name`'s reading `reading` at `value` (nullopt: releases
+    /// it), Part::set_reading. Throws std::invalid_argument naming the parts
+    /// that have settable readings, the part's readings, or the range.
+    void set_reading(const std::string& name, const std::string& reading, std::optional<double> value);
     /// Part::on_plant_step() of every part, in build order (PlantCoupler
     /// calls it after each plant step).
     void on_plant_step(Cycles pose_cycle);

@@ -88,6 +88,7 @@ public:
             case Output::rc: out.push_back(last_decay_us_); return;
         }
     }
+    void set_reading(const std::string& /*name*/, std::optional<double> value) override { held_ = value; }
     void on_plant_step(Cycles pose_cycle) override {
         reflectance_ = read_floor();
         if (output_ != Output::digital) return;
@@ -99,6 +100,7 @@ public:
 
 private:
     [[nodiscard]] double read_floor() const {
+        if (held_) return *held_;
         return plant::spot_reflectance(world_, world_point(pose_(), mount_), spot_m_);
     }
     [[nodiscard]] bool comparator(double reflectance) const { return (reflectance < threshold_) == high_on_dark_; }
@@ -146,6 +148,7 @@ private:
     std::unique_ptr<PinProbe> probe_;
     std::unique_ptr<AdcInput> adc_;
     double reflectance_ = 0.0;
+    std::optional<double> held_;  ///< set_reading's reflectance
     bool level_ = false;
     std::optional<Cycles> charged_since_;
     double last_decay_us_ = 0.0;
@@ -171,6 +174,7 @@ std::optional<PartKeyProblem> check(const PartEntry& e, const BoardDescription& 
 PartType reflectance_type() {
     PartType t;
     t.type = "reflectance";
+    t.readings = {{"reflectance", "the floor's reflectance under the spot (0 black .. 1 white)", 0.0, 1.0}};
     t.summary = "line sensor under the chassis: TCRT5000 comparator module (digital), QTR-A/AO (analog), QTR-RC (rc)";
     t.datasheet = "Vishay TCRT5000 doc. 83760; Pololu QTR application note 0J13 section 2 (RC decay: 780 us white, "
                   "10 ms black); SunFounder/Keyestudio/DFRobot module pages (comparator polarity)";

@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "hil/cycle_time.hpp"
@@ -43,6 +44,7 @@ public:
         out.push_back(echo_us_);
         out.push_back(static_cast<double>(pings_));
     }
+    void set_reading(const std::string& /*name*/, std::optional<double> value) override { held_m_ = value; }
 
 private:
     static plant::SonarParams params_of(const PartContext& ctx) {
@@ -68,7 +70,8 @@ private:
         const plant::Pose pose = pose_();
         const SensorMount mount = placement_.at(cycle);
         const std::optional<double> d =
-            plant::sonar_distance_m(world_, params_, world_point(pose, mount), world_heading_rad(pose, mount));
+            held_m_ ? held_distance_m()
+                    : plant::sonar_distance_m(world_, params_, world_point(pose, mount), world_heading_rad(pose, mount));
         const double width_s = plant::echo_width_s(params_, d);
         const Cycles rise = cycle + s_to_cycles(params_.burst_s, core_.clock_hz());
         const Cycles fall = rise + s_to_cycles(width_s, core_.clock_hz());
@@ -78,6 +81,12 @@ private:
         distance_m_ = d.value_or(0.0);
         echo_us_ = width_s * 1e6;
         ++pings_;
+    }
+
+    /// A held distance as the cone would give it: clamped up to the minimum range, none beyond the maximum.
+    [[nodiscard]] std::optional<double> held_distance_m() const {
+        if (*held_m_ > params_.max_range_m) return std::nullopt;
+        return std::max(*held_m_, params_.min_range_m);
     }
 
     AvrCore& core_;
@@ -93,6 +102,7 @@ private:
     double distance_m_ = 0.0;
     double echo_us_ = 0.0;
     uint64_t pings_ = 0;
+    std::optional<double> held_m_;  ///< set_reading's distance
 };
 
 std::optional<PartKeyProblem> check(const PartEntry& e, const BoardDescription& /*board*/) {
@@ -107,6 +117,7 @@ std::optional<PartKeyProblem> check(const PartEntry& e, const BoardDescription& 
 PartType ultrasonic_hcsr04_type() {
     PartType t;
     t.type = "ultrasonic";
+    t.readings = {{"distance_m", "the distance the next pings measure [m] (past max_range_m: no echo)", 0.0, 100.0}};
     t.summary = "HC-SR04 ultrasonic ranger: TRIG pulse in, ECHO high for the sound's round trip to the nearest wall";
     t.datasheet = "ElecFreaks HC-SR04 (10 us trigger, 15 deg, 2 cm - 4 m, 58 us/cm); Parallax PING))) v2.0 "
                   "(200 us burst, c = 331.5 + 0.6 T m/s)";

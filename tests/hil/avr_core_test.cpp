@@ -23,6 +23,16 @@ TEST(AvrCore, RunsToTheRequestedCycle) {
     EXPECT_NEAR(core.seconds(), 0.0625, 1e-6);
 }
 
+TEST(AvrCore, SetSramWritesSramOnlyAsADebuggerDoes) {
+    hil::AvrCore core(hil::ElfImage::read(firmware_elf()));
+    core.set_sram(0x100, 0xA5);  // the ATmega328P's first SRAM byte
+    EXPECT_EQ(core.data(0x100), 0xA5);
+    core.set_sram(0x8FF, 0x5A);  // RAMEND
+    EXPECT_EQ(core.data(0x8FF), 0x5A);
+    EXPECT_THROW(core.set_sram(0x25, 1), std::out_of_range);   // PORTB: an I/O register, not SRAM
+    EXPECT_THROW(core.set_sram(0x900, 1), std::out_of_range);  // past RAMEND
+}
+
 // The step watch sees every instruction once, however the run is cut into
 // run_until calls: 200,000 cycles in one call and in 1000 calls of 200 cycles
 // (stops land mid-batch, as the coupler's do) give the same count, and the

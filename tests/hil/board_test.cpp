@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <string>
 
 #include "support/board_file.hpp"
 #include "support/temp_dir.hpp"
@@ -87,6 +89,10 @@ TEST(Board, AWheelWithoutEncoderDrivesNoPin) {
     EXPECT_EQ(b.wheel[1].encoder.kind, hil::EncoderKind::none);
     EXPECT_EQ(b.wheel[1].encoder.signals(), 0u);
     EXPECT_EQ(hil::wired_pins(b), (std::vector<int>{2, 5, 6, 7, 8, 9, 11}));
+    const std::map<int, std::string> uses = hil::pin_uses(b);
+    EXPECT_EQ(uses.at(2), "wheels.right.encoder.OUT");
+    EXPECT_EQ(uses.at(5), "wheels.left.motor.EN");
+    EXPECT_EQ(uses.at(11), "wheels.right.motor.IN2");
 }
 
 TEST(Board, ADualModulesSharedStandbyPinIsOneModuleNotAPinUsedTwice) {

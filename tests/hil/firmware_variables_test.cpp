@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 
 #include "hil/firmware_report.hpp"
@@ -41,6 +42,24 @@ TEST(FirmwareVariables, DecodesLittleEndianBytesAsAvrGccLaysThemOut) {
     EXPECT_EQ(hil::decode_var(VarType::kUint32, {0x78, 0x56, 0x34, 0x12}), 305419896.0);  // 0x12345678
     EXPECT_EQ(hil::decode_var(VarType::kUint32, {0xFF, 0xFF, 0xFF, 0xFF}), 4294967295.0);
     EXPECT_EQ(hil::decode_var(VarType::kInt32, {0xFF, 0xFF, 0xFF, 0xFF}), -1.0);
+}
+
+TEST(FirmwareVariables, EncodesValuesAsTheBytesDecodeReads) {
+    using Bytes = std::array<uint8_t, 4>;
+    EXPECT_EQ(hil::encode_var(VarType::kFloat, 0.01), (Bytes{0x0A, 0xD7, 0x23, 0x3C}));  // as above
+    EXPECT_EQ(hil::encode_var(VarType::kInt16, -1000), (Bytes{0x18, 0xFC, 0, 0}));
+    EXPECT_EQ(hil::encode_var(VarType::kUint32, 305419896.0), (Bytes{0x78, 0x56, 0x34, 0x12}));
+    EXPECT_EQ(hil::encode_var(VarType::kInt8, -25), (Bytes{0xE7, 0, 0, 0}));
+    EXPECT_EQ(hil::encode_var(VarType::kInt32, -1), (Bytes{0xFF, 0xFF, 0xFF, 0xFF}));
+    // What a type cannot hold exactly is refused, naming the value and the type.
+    EXPECT_EQ(thrown_message<std::invalid_argument>([] { (void)hil::encode_var(VarType::kUint8, 256); }),
+              "256 is not a uint8 (an integer in [0, 255])");
+    EXPECT_EQ(thrown_message<std::invalid_argument>([] { (void)hil::encode_var(VarType::kInt16, 0.5); }),
+              "0.5 is not a int16 (an integer in [-32768, 32767])");
+    EXPECT_EQ(thrown_message<std::invalid_argument>([] { (void)hil::encode_var(VarType::kUint16, -1); }),
+              "-1 is not a uint16 (an integer in [0, 65535])");
+    EXPECT_EQ(thrown_message<std::invalid_argument>([] { (void)hil::encode_var(VarType::kFloat, 1e39); }),
+              "1e+39 is not a finite float (binary32)");
 }
 
 TEST(FirmwareVariables, ParsesTypeNames) {

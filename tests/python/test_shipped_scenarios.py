@@ -2,7 +2,10 @@
 pinned numbers (each scenario file says where they come from). A scenario
 without `seed:` runs with seed 1, as the scenario runner does."""
 
+import csv
+import json
 import math
+import subprocess
 
 import pytest
 
@@ -77,3 +80,46 @@ def test_case1_completes_over_a_small_plant_matrix(reference_elf, r_scale):
                 plant={"motor1": {"resistance_ohm": 5.32 * r_scale}, "motor2": {"resistance_ohm": 5.41 * r_scale}})
     assert s.run_contract(case=1) == "report_complete"
     assert near(s.truth.pose(), 0.5350, -0.0443, 0.10)
+
+
+def test_isr_latency_and_loop_timing(reference_elf):
+    """isr_latency.yaml and loop_timing.yaml in one run: the loop profile
+    starts with the case byte, as the scenario runner starts it."""
+    s = Session(firmware=reference_elf, seed=1, profile=True)
+    s.run_for(0.1)
+    s.start_loop_profile()
+    s.serial.write(b"1")
+    s.run_until_serial("END", timeout_s=25)
+    isr = s.isr_stats()
+    v = {x["name"]: x for x in isr["vectors"]}
+    for name, count in (("INT0", 7000), ("INT1", 5000)):
+        assert v[name]["count"] >= count
+        assert v[name]["latency"]["max_cycles"] <= 150
+        assert v[name]["duration"]["max_cycles"] <= 120
+    assert v["TIMER0_OVF"]["count"] >= 10000 and v["TIMER0_OVF"]["duration"]["max_cycles"] <= 120
+    assert isr["races"]["torn_observed"] == 0
+    loop = s.loop_profile()
+    us = 1e6 / 16e6  # the Uno's 16 MHz
+    quiet = loop[loop["eeprom_write"] == 0]
+    assert 950 <= quiet["compute"].max() * us <= 1300
+    assert 9900 <= quiet["period"].mean() * us <= 10300
+    assert 3500 <= loop["compute"].max() * us <= 5000
+    assert 12500 <= loop["period"].max() * us <= 14500
+    assert (loop["period"] == loop["compute"] + loop["wait"]).all()
+    assert (loop["start"][1:] == loop["end"][:-1]).all()
+
+
+def test_eeprom_vs_sim(tmp_path, build_dir, source_dir, reference_elf):
+    """eeprom_vs_sim.yaml: the EEPROM log against the host simulation
+    (`ddmr-hil compare`) and against today's log, one count (4 mm) per axis."""
+    s = started(reference_elf, b"1")
+    s.run_until_serial("END", timeout_s=25)
+    s.save_artifacts(tmp_path)
+    subprocess.run([str(build_dir / "ddmr-hil"), "compare", str(tmp_path)], check=True, stdout=subprocess.DEVNULL)
+    log_vs_sim = json.loads((tmp_path / "compare.json").read_text())["pairs"]["log_vs_sim"]
+    assert log_vs_sim["rms_m"] <= 0.03 and log_vs_sim["endpoint_m"] <= 0.05
+    with open(tmp_path / "eeprom_log.csv") as now, open(source_dir / "tests/scenarios/golden/case1_eeprom_log.csv") as gold:
+        rows, golden = list(csv.DictReader(now)), list(csv.DictReader(gold))
+    assert len(rows) == len(golden)
+    for a, b in zip(rows, golden):
+        assert abs(float(a["x_m"]) - float(b["x_m"])) <= 0.0057 and abs(float(a["y_m"]) - float(b["y_m"])) <= 0.0057

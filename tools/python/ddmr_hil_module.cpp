@@ -56,6 +56,8 @@ ApiOptions make_options(const py::dict& kw) {
     if (kw.contains("seed") && !kw["seed"].is_none()) o.seed = kw["seed"].cast<uint64_t>();
     if (kw.contains("max_sim_s")) o.max_sim_seconds = kw["max_sim_s"].cast<double>();
     if (kw.contains("baud") && !kw["baud"].is_none()) o.baud = kw["baud"].cast<uint32_t>();
+    if (kw.contains("profile")) o.profile = kw["profile"].cast<bool>();
+    if (kw.contains("loop_mark") && !kw["loop_mark"].is_none()) o.loop_mark = kw["loop_mark"].cast<std::string>();
     if (kw.contains("instruments")) {
         const bool on = kw["instruments"].cast<bool>();
         o.instruments = {on, on, on};
@@ -68,6 +70,26 @@ py::array_t<double> history(const ApiSession& s) {
     const std::vector<double>& v = s.truth_rows();
     py::array_t<double> a({static_cast<py::ssize_t>(v.size() / cols), static_cast<py::ssize_t>(cols)});
     std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(double));
+    return a;
+}
+
+/// The loop profile's iterations as rows: start, mark_entry, end, compute,
+/// wait, period [cycles], eeprom_write (0 or 1).
+py::array_t<uint64_t> loop_rows(ApiSession& s) {
+    const std::vector<ddmr::hil::LoopIteration>& it = s.loop_profile();
+    py::array_t<uint64_t> a({static_cast<py::ssize_t>(it.size()), static_cast<py::ssize_t>(7)});
+    auto r = a.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < it.size(); ++i) {
+        const auto k = static_cast<py::ssize_t>(i);
+        const ddmr::hil::LoopIteration& x = it[i];
+        r(k, 0) = x.start;
+        r(k, 1) = x.mark_entry;
+        r(k, 2) = x.end;
+        r(k, 3) = x.compute();
+        r(k, 4) = x.wait();
+        r(k, 5) = x.period();
+        r(k, 6) = x.eeprom_write ? 1U : 0U;
+    }
     return a;
 }
 
@@ -99,6 +121,10 @@ PYBIND11_MODULE(_ddmr_hil, m) {
         }
     });
 
+    py::class_<ddmr::tools::ApiSnapshot>(m, "_Snapshot")
+        .def_readonly("cycle", &ddmr::tools::ApiSnapshot::cycle)
+        .def_property_readonly("acts", [](const ddmr::tools::ApiSnapshot& s) { return s.log.size(); });
+
     py::class_<ApiSession>(m, "_Session")
         .def(py::init([](const py::dict& kw) { return std::make_unique<ApiSession>(make_options(kw)); }))
         .def_property_readonly("cycle", &ApiSession::cycle)
@@ -128,6 +154,17 @@ PYBIND11_MODULE(_ddmr_hil, m) {
         .def("serial_write", [](ApiSession& s, const py::bytes& b) { s.serial_write(b.cast<std::string>()); })
         .def("serial_text", [](const ApiSession& s) { return py::bytes(s.serial_text()); })
         .def("serial_read_new", [](ApiSession& s) { return py::bytes(s.serial_read_new()); })
+        .def("pin_drive", &ApiSession::pin_drive)
+        .def("var_write", &ApiSession::var_write)
+        .def("sensor_set", &ApiSession::sensor_set)
+        .def("isr_stats_json", &ApiSession::isr_stats_json)
+        .def("loop_profile_start", &ApiSession::loop_profile_start)
+        .def("loop_profile", &loop_rows)
+        .def("snapshot", &ApiSession::snapshot)
+        .def("restore", [](ApiSession& s, const ddmr::tools::ApiSnapshot& snap) {
+            py::gil_scoped_release free;
+            s.restore(snap, check_signals);
+        })
         .def("pin_number", &ApiSession::pin_number)
         .def("pin_level", &ApiSession::pin_level)
         .def("pwm_duty", &ApiSession::pwm_duty)

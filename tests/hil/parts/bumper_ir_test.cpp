@@ -2,6 +2,8 @@
 // worked out by hand (hil/parts/bumper.cpp, hil/parts/ir_obstacle.cpp).
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include "hil/parts/part_registry.hpp"
 #include "hil/parts/part_set.hpp"
 #include "support/board_file.hpp"
@@ -91,6 +93,31 @@ TEST(IrObstacle, GoesLowInsideItsRangeAndHighJustOutside) {
     rig.move_to(0.3 - 0.09 * std::cos(rig.pose.theta_rad) - 0.149);
     rig.run(1000);
     EXPECT_EQ(rig.pind7(), 1);
+}
+
+TEST(BumperAndIrObstacle, AHeldReadingWinsOverTheWorldUntilReleased) {
+    // Far from the wall (x = 0): the world says released / nothing seen.
+    WallRig bump("bumper_fixture", "  - {name: bump, type: bumper, OUT: 7}\n");
+    bump.run(2000);
+    bump.parts->set_reading("bump", "pressed", 1.0);
+    bump.move_to(0.0);
+    bump.run(200);
+    EXPECT_EQ(bump.fx.u8("level"), 0);
+    EXPECT_EQ(truth_value(*bump.parts, "bump.presses"), 1.0);
+    bump.parts->set_reading("bump", "pressed", std::nullopt);
+    bump.move_to(0.0);
+    bump.run(200);
+    EXPECT_EQ(bump.fx.u8("level"), 1);
+
+    WallRig ir("edge_fixture", "  - {name: ir, type: ir-obstacle, OUT: 7}\n");
+    ir.parts->set_reading("ir", "detected", 1.0);
+    ir.move_to(0.0);
+    ir.run(1000);
+    EXPECT_EQ(ir.pind7(), 0);  // active low: seen
+    ir.parts->set_reading("ir", "detected", std::nullopt);
+    ir.move_to(0.0);
+    ir.run(1000);
+    EXPECT_EQ(ir.pind7(), 1);
 }
 
 }  // namespace

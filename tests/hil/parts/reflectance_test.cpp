@@ -2,6 +2,8 @@
 // worked out by hand (hil/parts/reflectance.cpp, plant/reflectance_sensor.hpp).
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include "hil/parts/part_registry.hpp"
 #include "hil/parts/part_set.hpp"
 #include "support/board_file.hpp"
@@ -72,6 +74,26 @@ TEST(Reflectance, AnAnalogSensorGivesTheAdcCodesOfItsWhiteAndBlackVoltages) {
     ASSERT_TRUE(rig.fx.run_until_u8("rounds", static_cast<uint8_t>(now + 2), 20 * 16000));
     EXPECT_EQ(rig.fx.u16("codes", 2), 921);  // black: floor(4.5 x 1024 / 5) = 921
     EXPECT_NEAR(truth_value(rig.parts, "qtr.volts"), 4.5, 1e-12);
+}
+
+TEST(Reflectance, AHeldReflectanceIsWhatTheSensorSeesUntilReleased) {
+    // On white at x = 0; held at 0.5, on the line through white (0.8, 0.3 V)
+    // and black tape (0.05, 4.5 V) of plant/reflectance_sensor.hpp:
+    // 0.3 + (4.5 - 0.3) / (0.05 - 0.8) x (0.5 - 0.8) = 0.3 + 1.68 = 1.98 V.
+    Rig rig("adc_fixture", "  - {name: qtr, type: reflectance, output: analog, OUT: A2, x_mm: 40}\n");
+    ASSERT_TRUE(rig.fx.run_until_u8("rounds", 2, 20 * 16000));
+    rig.parts.set_reading("qtr", "reflectance", 0.5);
+    rig.move_to(0.0);
+    uint8_t now = rig.fx.u8("rounds");
+    ASSERT_TRUE(rig.fx.run_until_u8("rounds", static_cast<uint8_t>(now + 2), 20 * 16000));
+    EXPECT_DOUBLE_EQ(truth_value(rig.parts, "qtr.reflectance"), 0.5);
+    EXPECT_NEAR(truth_value(rig.parts, "qtr.volts"), 1.98, 1e-12);
+    EXPECT_EQ(rig.fx.u16("codes", 2), 405);  // floor(1.98 x 1024 / 5) = floor(405.5)
+    rig.parts.set_reading("qtr", "reflectance", std::nullopt);
+    rig.move_to(0.0);
+    now = rig.fx.u8("rounds");
+    ASSERT_TRUE(rig.fx.run_until_u8("rounds", static_cast<uint8_t>(now + 2), 20 * 16000));
+    EXPECT_EQ(rig.fx.u16("codes", 2), 61);  // white again
 }
 
 TEST(Reflectance, AnRcLineDecaysIn780MicrosecondsOverWhiteAnd10MillisecondsOverBlack) {

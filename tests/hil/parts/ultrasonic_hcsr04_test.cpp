@@ -3,6 +3,10 @@
 // plant/sonar.hpp).
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <stdexcept>
+#include <string>
+
 #include "hil/cycle_time.hpp"
 #include "hil/parts/part_registry.hpp"
 #include "hil/parts/part_set.hpp"
@@ -100,6 +104,46 @@ TEST(UltrasonicHcsr04, ASensorTurnedAwaySeesNoWallAndTheMountOffsetCounts) {
     ahead.fx.core.run_until(FixtureCore::kPastStartup);
     (void)ahead.ping(1, 200000);
     EXPECT_DOUBLE_EQ(truth_value(*ahead.parts, "sonar.distance_m"), 0.93);
+}
+
+TEST(UltrasonicHcsr04, AHeldDistanceReplacesTheWorldUntilReleased) {
+    SonarRig rig(1.0, kSonar);
+    rig.fx.core.run_until(FixtureCore::kPastStartup);
+    rig.parts->set_reading("sonar", "distance_m", 0.5);
+    // 2 x 0.5 m / 343.5 m/s = 2911.208 us = 46579.33 cycles (+-1 as above).
+    Edges e = rig.ping(1, 200000);
+    EXPECT_NEAR(static_cast<double>(e.echo_fall - e.echo_rise), 46579.0, 1.0);
+    // Past max_range_m (4 m): no echo, the module's 38 ms timeout.
+    rig.parts->set_reading("sonar", "distance_m", 4.5);
+    rig.fx.core.run_until(rig.fx.core.cycle() + 100000);
+    e = rig.ping(2, 700000);
+    EXPECT_NEAR(static_cast<double>(e.echo_fall - e.echo_rise), 38000.0 * 16.0, 1.0);
+    // Nearer than min_range_m (2 cm): read as 2 cm, as the cone would give it.
+    rig.parts->set_reading("sonar", "distance_m", 0.005);
+    rig.fx.core.run_until(rig.fx.core.cycle() + 100000);
+    (void)rig.ping(3, 200000);
+    EXPECT_DOUBLE_EQ(truth_value(*rig.parts, "sonar.distance_m"), 0.02);
+    rig.parts->set_reading("sonar", "distance_m", std::nullopt);
+    rig.fx.core.run_until(rig.fx.core.cycle() + 100000);
+    (void)rig.ping(4, 200000);
+    EXPECT_DOUBLE_EQ(truth_value(*rig.parts, "sonar.distance_m"), 1.0);
+}
+
+TEST(UltrasonicHcsr04, HeldReadingsAreCheckedByName) {
+    SonarRig rig(1.0, kSonar);
+    const auto message = [&](const std::string& part, const std::string& reading, double value) -> std::string {
+        try {
+            rig.parts->set_reading(part, reading, value);
+        } catch (const std::invalid_argument& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(message("front", "distance_m", 1.0),
+              "sensor 'front': the board has no such part; the board's parts with settable readings are: sonar "
+              "(ultrasonic)");
+    EXPECT_EQ(message("sonar", "range", 1.0), "sensor 'sonar' (ultrasonic) has no reading 'range'; it has: distance_m");
+    EXPECT_EQ(message("sonar", "distance_m", -0.1).rfind("sensor 'sonar': distance_m = -0.1 is outside [0, 100]", 0), 0U);
 }
 
 TEST(UltrasonicHcsr04, ATriggerWhileTheEchoIsHighIsIgnored) {

@@ -28,6 +28,7 @@ from ._ddmr_hil import (  # noqa: F401  (re-exported)
 
 __all__ = [
     "Session",
+    "Snapshot",
     "Pose",
     "DdmrHilError",
     "ConfigError",
@@ -91,6 +92,16 @@ class Pin:
         """The output's mean level over its PWM period (0 or 1 when static)."""
         return self._core.pwm_duty(self.number)
 
+    def drive(self, level: int) -> None:
+        """Drives this input pin to `level` (0 or 1) from now on, as a switch
+        or a signal generator wired to it would: PINx reads it, and an INTn or
+        pin-change interrupt enabled on it fires at this cycle. A pin the
+        board wires (a part, a motor driver, an encoder) or the host's serial
+        port is refused: set a part's reading with sensor(NAME).set()."""
+        if level not in (0, 1, True, False):
+            raise ConfigError(f"pin {self.name}: drive(level) takes 0 or 1, not {level!r}")
+        self._core.pin_drive(self.number, bool(level))
+
 
 class Var:
     """A firmware global, read by its ELF name as `type` (int8 .. uint32,
@@ -106,6 +117,12 @@ class Var:
     def value(self) -> float:
         return self._core.var_read(self.name, self.type)
 
+    def write(self, value: float) -> None:
+        """Writes the global now, as a debugger does (no code runs); a value
+        the type cannot hold (a fraction into an int, 300 into a uint8) is
+        refused."""
+        self._core.var_write(self.name, self.type, float(value))
+
     def __float__(self) -> float:
         return float(self.value)
 
@@ -114,6 +131,40 @@ class Var:
 
     def __repr__(self) -> str:
         return f"Var({self.name!r}, {self.type or 'by size'!r}) = {self.value!r}"
+
+
+class Sensor:
+    """A part of the board's `parts:` list whose readings a test may hold in
+    place of the world's (docs/python.md, "Holding a sensor's reading"):
+    ultrasonic distance_m, reflectance reflectance, bumper pressed,
+    ir-obstacle detected."""
+
+    def __init__(self, core: _Session, name: str):
+        self._core = core
+        self.name = name
+
+    def set(self, **readings) -> None:
+        """Holds each reading from the next plant step on (62.5 us); None
+        gives it back to the world: set(distance_m=0.2), set(distance_m=None)."""
+        if not readings:
+            raise ConfigError(f"sensor '{self.name}': set() needs a reading, as set(distance_m=0.2)")
+        for key, value in readings.items():
+            self._core.sensor_set(self.name, key, None if value is None else float(value))
+
+
+class Snapshot:
+    """A session's state at an AVR cycle (Session.snapshot()); restore() comes
+    back to it by building the session again and replaying what was done."""
+
+    def __init__(self, core_snapshot):
+        self._snap = core_snapshot
+
+    @property
+    def cycle(self) -> int:
+        return self._snap.cycle
+
+    def __repr__(self) -> str:
+        return f"Snapshot(cycle={self._snap.cycle}, acts={self._snap.acts})"
 
 
 class Truth:
@@ -156,6 +207,9 @@ class Session:
     max_sim_s  the session's AVR-time limit [s] (RunEnded when reached)
     baud       the host's serial adapter (8N1); None: bytes as sent
     instruments  the ISR monitor, stack guard and race detector (default on)
+    profile    the loop profiler, for loop_profile() (exact; single-steps: slower)
+    loop_mark  the function each control-loop iteration calls once; None: as
+               `ddmr-hil run --profile` picks it (the contract's, else delay)
     """
 
     def __init__(
@@ -170,6 +224,8 @@ class Session:
         max_sim_s: float = 3600.0,
         baud: Optional[int] = None,
         instruments: bool = True,
+        profile: bool = False,
+        loop_mark: Optional[str] = None,
     ):
         overrides = {}
         plant_file = None
@@ -190,6 +246,8 @@ class Session:
             "max_sim_s": float(max_sim_s),
             "baud": baud,
             "instruments": bool(instruments),
+            "profile": bool(profile),
+            "loop_mark": loop_mark,
         }
         self._core = _Session(kw)
         self.serial = Serial(self._core)
@@ -262,6 +320,46 @@ class Session:
 
     def var(self, name: str, type: str = "") -> Var:
         return Var(self._core, name, type)
+
+    def sensor(self, name: str) -> Sensor:
+        """The board's part `name` (its `parts:` entry), to hold its readings."""
+        return Sensor(self._core, name)
+
+    # --- instruments --------------------------------------------------------
+    def isr_stats(self) -> dict:
+        """isr.json's content so far: per-vector counts, latency and duration
+        in cycles, and the race detector's findings (docs/isr.md)."""
+        return json.loads(self._core.isr_stats_json())
+
+    def start_loop_profile(self) -> "Session":
+        """Starts the loop profile at the next return of the loop mark
+        (Session(profile=True)); run_contract() starts it as `run` does,
+        when it sends the contract's start text."""
+        self._core.loop_profile_start()
+        return self
+
+    def loop_profile(self):
+        """The control loop's iterations so far, as a numpy structured array:
+        start, mark_entry, end, compute, wait, period [cycles], eeprom_write."""
+        import numpy as np
+
+        rows = self._core.loop_profile()
+        names = ["start", "mark_entry", "end", "compute", "wait", "period", "eeprom_write"]
+        dtype = np.dtype([(n, np.uint64) for n in names])
+        return np.ascontiguousarray(rows).view(dtype).reshape(-1)
+
+    # --- snapshots ----------------------------------------------------------
+    def snapshot(self) -> Snapshot:
+        """The state now, to restore() later (boot once, try many inputs)."""
+        return Snapshot(self._core.snapshot())
+
+    def restore(self, snap: Snapshot) -> "Session":
+        """Back to `snap`, exactly: the session is built again from reset and
+        what was done before the snapshot (serial bytes, faults, drives,
+        writes) is replayed at the same cycles. It costs the snapshot's AVR
+        time again. Ctrl-C during it leaves the session as it was."""
+        self._core.restore(snap._snap)
+        return self
 
     def eeprom(self) -> bytes:
         """The MCU's whole EEPROM now."""
