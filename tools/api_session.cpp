@@ -37,19 +37,19 @@ plant::RobotParams resolve_plant(const ApiOptions& o, std::string& source) {
     if (o.plant_file) plant::load_robot_params(*o.plant_file);  // its own messages name its file and line
     YAML::Node yaml = o.plant_file ? YAML::LoadFile(o.plant_file->string()) : default_plant_yaml();
     source = o.plant_file ? o.plant_file->string() : std::string("(embedded defaults)");
-    if (!o.plant_overrides.empty()) {
+    for (const std::string& layer : o.plant_overrides) {
         YAML::Node over;
         try {
-            over = YAML::Load(o.plant_overrides);
+            over = YAML::Load(layer);
         } catch (const YAML::Exception& e) {
             throw std::invalid_argument(fmt::format("plant overrides: not YAML or JSON: {}", e.msg));
         }
         if (!over.IsMap()) {
             throw std::invalid_argument("plant overrides: expected a mapping like {motor1: {resistance_ohm: 6.0}}");
         }
-        merge_plant_yaml(yaml, over);
-        source += " + overrides";
+        merge_plant_yaml(yaml, over);  // as a scenario's overrides: a layer's encoder resolution replaces the other's
     }
+    if (!o.plant_overrides.empty()) source += " + overrides";
     if (o.seed) seed_plant_yaml(yaml, *o.seed);
     YAML::Emitter e;
     e << yaml;
@@ -212,7 +212,7 @@ void ApiSession::run_until(const std::function<bool()>& condition, double timeou
     }
 }
 
-std::string ApiSession::run_contract(std::optional<int> test_case) {
+std::string ApiSession::run_contract(std::optional<int> test_case, const Between& between) {
     check_running();
     if (cycle() != 0) {
         throw std::logic_error("run_contract() runs the sketch contract from reset: call it on a fresh Session");
@@ -223,7 +223,14 @@ std::string ApiSession::run_contract(std::optional<int> test_case) {
                                                 run().options().firmware.string()));
     }
     if (test_case) run().set_case(*test_case);
-    const hil::SessionStop stop = run().run_to_end();
+    hil::SessionStop stop{};
+    try {
+        stop = run().run_to_end(between);
+    } catch (...) {
+        live_->ended = "run_contract() was stopped before the contract's end: the session cannot run on (restore a "
+                       "snapshot, or start a new Session)";
+        throw;
+    }
     live_->last_stop = stop;
     const FirmwareRunResult r = run().finish(stop);
     live_->exit_reason = to_string(r.exit);

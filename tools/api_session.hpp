@@ -59,9 +59,10 @@ struct ApiOptions {
     std::filesystem::path firmware;
     std::optional<std::filesystem::path> board_file;
     std::optional<std::filesystem::path> plant_file;
-    /// Overrides merged into the plant (file or defaults), as YAML or JSON
-    /// text: {"motor1": {"resistance_ohm": 6.0}}; empty: none.
-    std::string plant_overrides;
+    /// Overrides merged into the plant (file or defaults) one after the
+    /// other, each as YAML or JSON text: {"motor1": {"resistance_ohm": 6.0}};
+    /// empty: none.
+    std::vector<std::string> plant_overrides;
     std::optional<std::filesystem::path> world_file;
     /// The sketch contract; unset: the reference firmware's own, else none.
     std::optional<std::filesystem::path> contract;
@@ -136,7 +137,8 @@ public:
     /// The sketch contract's run, as `ddmr-hil run` does it (boot, start text
     /// with `test_case`, until complete), then the artifacts; on a fresh
     /// session only. Returns summary.json's exit_reason.
-    std::string run_contract(std::optional<int> test_case);
+    /// `between` as for run_for (after the boot: every 10 ms of AVR time).
+    std::string run_contract(std::optional<int> test_case, const Between& between = {});
 
     /// A scenario fault step (docs/scenarios.md, "Faults": inject, stall,
     /// battery, slip, place, push, move-obstacle) with its value as YAML or

@@ -108,7 +108,7 @@ void classify_end(hil::SessionStop stop, const hil::Session& session, const RunP
 /// The run: the boot up to the ready function's first return (where the
 /// contract has one), the start text, then the run to its end.
 hil::SessionStop run_session(hil::Session& session, const RunPlan& plan, Profilers& profilers,
-                             const std::function<void()>& send_start) {
+                             const std::function<void()>& send_start, const std::function<void()>& between) {
     if (plan.ready) {
         const hil::SessionStop boot = session.run_to_first_return_from(*plan.ready);
         if (boot != hil::SessionStop::kCondition) return boot;
@@ -119,7 +119,13 @@ hil::SessionStop run_session(hil::Session& session, const RunPlan& plan, Profile
     if (plan.has_start && plan.contract->start->at_s) {
         session.at(hil::s_to_cycles(*plan.contract->start->at_s, session.core().clock_hz()), send_start);
     }
-    return session.run(hil::Session::kNoTarget);
+    if (!between) return session.run(hil::Session::kNoTarget);
+    const hil::Cycles chunk = hil::s_to_cycles(0.01, session.core().clock_hz());
+    for (;;) {
+        const hil::SessionStop stop = session.run(session.cycle() + chunk);
+        if (stop != hil::SessionStop::kReachedCycle) return stop;
+        between();
+    }
 }
 
 /// The run's figures, read off the session at its end.
@@ -465,7 +471,7 @@ void FirmwareRun::set_case(int test_case) {
 
 hil::LoopProfiler* FirmwareRun::loop_profiler() { return s_->profilers.loop ? &*s_->profilers.loop : nullptr; }
 
-hil::SessionStop FirmwareRun::run_to_end() {
+hil::SessionStop FirmwareRun::run_to_end(const std::function<void()>& between) {
     State& st = *s_;
     if (st.finished) throw std::logic_error("the run has finished: its artifacts are written");
     if (!st.plan.completes) {
@@ -478,7 +484,7 @@ hil::SessionStop FirmwareRun::run_to_end() {
     }
     st.driven = true;
     st.watch->set_driving(true);
-    return run_session(st.session, st.plan, st.profilers, [&st] { st.send_start(); });
+    return run_session(st.session, st.plan, st.profilers, [&st] { st.send_start(); }, between);
 }
 
 FirmwareRunResult FirmwareRun::finish(hil::SessionStop stop) {

@@ -42,6 +42,7 @@
 #include <cstdint>
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -221,8 +222,10 @@ public:
     /// The contract's {case} for its start text, before the run starts.
     /// Throws std::invalid_argument when the contract takes no case or not this one.
     void set_case(int test_case);
-    /// The boot, the start text and the run to its end, as `run` does them.
-    hil::SessionStop run_to_end();
+    /// The boot, the start text and the run to its end, as `run` does them;
+    /// after the boot, `between` (if any) is called every 10 ms of AVR time
+    /// and may throw to stop the run (Ctrl-C in the Python API).
+    hil::SessionStop run_to_end(const std::function<void()>& between = {});
     /// Ends the run (`stop`: how the last run returned), writes the
     /// artifacts, returns the result. Once.
     FirmwareRunResult finish(hil::SessionStop stop);

@@ -121,3 +121,45 @@ def test_faults_act_as_the_scenario_steps_do(reference_elf):
         s.fault("reset")  # a scenario step the fault parser also reads, not a fault
     with pytest.raises(ddmr_hil.ConfigError, match="no obstacle named 'box'"):
         s.move_obstacle("box", dx_m=0.1)
+
+
+def test_plant_overrides_merge_as_layers_with_the_encoder_resolution_rule(reference_elf):
+    # One layer's edges_per_wheel_rev replaces the other's edges_per_motor_rev
+    # (tools/common/plant_yaml.cpp, as a scenario's overrides); both in one
+    # mapping is a contradiction and is refused.
+    s = Session(firmware=reference_elf, instruments=False, plant={"encoder1": {"edges_per_motor_rev": 12}},
+                plant_overrides={"encoder1": {"edges_per_wheel_rev": 600}})
+    s.run_for(0.01)
+    with pytest.raises(ddmr_hil.ConfigError, match="edges_per"):
+        Session(firmware=reference_elf, plant={"encoder1": {"edges_per_motor_rev": 12, "edges_per_wheel_rev": 600}})
+
+
+def interrupt_after(seconds):
+    """Ctrl-C from a timer thread: SIGINT to this process after `seconds` of wall time."""
+    import os
+    import signal
+    import threading
+
+    t = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t.start()
+    return t
+
+
+def test_ctrl_c_stops_a_long_run_and_the_session_stays_where_it_stopped(reference_elf):
+    s = Session(firmware=reference_elf, instruments=False)
+    interrupt_after(0.3)
+    with pytest.raises(KeyboardInterrupt):
+        s.run_for(600.0)
+    stopped = s.time_s
+    assert 0.0 < stopped < 600.0
+    s.run_for(0.01)
+    assert s.time_s == pytest.approx(stopped + 0.01, abs=1e-3)
+
+
+def test_ctrl_c_stops_run_contract_which_then_cannot_run_on(reference_elf):
+    s = Session(firmware=reference_elf, instruments=False)
+    interrupt_after(0.8)  # case 1 takes about 2 s of wall time
+    with pytest.raises(KeyboardInterrupt):
+        s.run_contract(case=1)
+    with pytest.raises(ddmr_hil.RunEnded, match=r"run_contract\(\) was stopped before the contract's end"):
+        s.run_for(0.1)

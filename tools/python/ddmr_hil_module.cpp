@@ -52,7 +52,7 @@ ApiOptions make_options(const py::dict& kw) {
     o.plant_file = path("plant_file");
     o.world_file = path("world");
     o.contract = path("contract");
-    if (kw.contains("plant_overrides")) o.plant_overrides = kw["plant_overrides"].cast<std::string>();
+    if (kw.contains("plant_overrides")) o.plant_overrides = kw["plant_overrides"].cast<std::vector<std::string>>();
     if (kw.contains("seed") && !kw["seed"].is_none()) o.seed = kw["seed"].cast<uint64_t>();
     if (kw.contains("max_sim_s")) o.max_sim_seconds = kw["max_sim_s"].cast<double>();
     if (kw.contains("baud") && !kw["baud"].is_none()) o.baud = kw["baud"].cast<uint32_t>();
@@ -148,7 +148,7 @@ PYBIND11_MODULE(_ddmr_hil, m) {
         })
         .def("run_contract", [](ApiSession& s, std::optional<int> test_case) {
             py::gil_scoped_release free;
-            return s.run_contract(test_case);
+            return s.run_contract(test_case, check_signals);
         })
         .def("fault", &ApiSession::fault)
         .def("serial_write", [](ApiSession& s, const py::bytes& b) { s.serial_write(b.cast<std::string>()); })

@@ -13,9 +13,10 @@ the same checks, the same one-line errors, the same artifacts.
 
 from __future__ import annotations
 
-import json
 import os
-from typing import Callable, NamedTuple, Optional, Union
+from collections import namedtuple
+
+TYPE_CHECKING = False  # typing's own idiom, without importing typing
 
 from ._ddmr_hil import (  # noqa: F401  (re-exported)
     ConfigError,
@@ -40,15 +41,16 @@ __all__ = [
     "to_csv",
 ]
 
-PathLike = Union[str, "os.PathLike[str]"]
+if TYPE_CHECKING:  # annotations only: `typing` costs the import time of a short test
+    from typing import Callable, Optional, Union
+
+    PathLike = Union[str, "os.PathLike[str]"]
 
 
-class Pose(NamedTuple):
+class Pose(namedtuple("Pose", ["x_m", "y_m", "theta_rad"])):
     """The robot's true pose: x_m, y_m [m] and theta_rad [rad, not wrapped]."""
 
-    x_m: float
-    y_m: float
-    theta_rad: float
+    __slots__ = ()
 
 
 class Serial:
@@ -233,14 +235,13 @@ class Session:
             overrides = plant
         elif plant is not None:
             plant_file = os.fspath(plant)
-        if plant_overrides:
-            overrides = _merged(overrides, plant_overrides)
+        layers = [layer for layer in (overrides, plant_overrides) if layer]  # merged in C++, in order
         kw = {
             "firmware": os.fspath(firmware),
             "board": _path(board),
             "world": _path(world),
             "plant_file": plant_file,
-            "plant_overrides": json.dumps(overrides) if overrides else "",
+            "plant_overrides": [_json().dumps(layer) for layer in layers],
             "contract": _path(contract),
             "seed": seed,
             "max_sim_s": float(max_sim_s),
@@ -296,7 +297,7 @@ class Session:
 
             s.fault("stall", motor="left", for_s=0.5)
             s.fault("inject", encoder=1, drop=0.05)"""
-        self._core.fault(kind.replace("_", "-"), json.dumps(_step_value(params)))
+        self._core.fault(kind.replace("_", "-"), _json().dumps(_step_value(params)))
         return self
 
     def push(self, dx_m: float = 0.0, dy_m: float = 0.0, dtheta_rad: float = 0.0, over_s: float = 0.0) -> "Session":
@@ -329,7 +330,7 @@ class Session:
     def isr_stats(self) -> dict:
         """isr.json's content so far: per-vector counts, latency and duration
         in cycles, and the race detector's findings (docs/isr.md)."""
-        return json.loads(self._core.isr_stats_json())
+        return _json().loads(self._core.isr_stats_json())
 
     def start_loop_profile(self) -> "Session":
         """Starts the loop profile at the next return of the loop mark
@@ -398,18 +399,21 @@ def _step_value(params: dict) -> dict:
     return out
 
 
+def _json():
+    import json  # on first use: a plain session does not pay for it
+
+    return json
+
+
 def _path(p: Optional[PathLike]) -> Optional[str]:
     return None if p is None else os.fspath(p)
 
 
-def _merged(base: dict, over: dict) -> dict:
-    out = dict(base)
-    for k, v in over.items():
-        if isinstance(v, dict) and isinstance(out.get(k), dict):
-            out[k] = _merged(out[k], v)
-        else:
-            out[k] = v
-    return out
+def __getattr__(name: str):
+    """sweep, grid and to_csv load with their module on first use (PEP 562):
+    a session that never sweeps does not pay for its imports."""
+    if name in ("sweep", "grid", "to_csv"):
+        from . import _sweep
 
-
-from ._sweep import grid, sweep, to_csv  # noqa: E402  (after Session: sweep uses it)
+        return getattr(_sweep, name)
+    raise AttributeError(f"module 'ddmr_hil' has no attribute {name!r}")

@@ -23,6 +23,7 @@ import json
 import math
 import os
 import sys
+import warnings
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence
 
@@ -248,9 +249,13 @@ def _on_local_cluster(spec, plants, workers: Optional[int], progress: bool) -> L
     if _package_parent() not in (saved or "").split(os.pathsep):
         os.environ["PYTHONPATH"] = os.pathsep.join(p for p in [_package_parent(), saved] if p)
     try:
-        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                          dashboard_address=None) as cluster, Client(cluster) as client:
-            return _on_client(client, spec, plants, progress)
+        with warnings.catch_warnings():
+            # Debian 12's tornado 6.2 under Python 3.11, inside dask's LocalCluster:
+            # "make_current is deprecated" is theirs, not the sweep's.
+            warnings.filterwarnings("ignore", message="make_current is deprecated", category=DeprecationWarning)
+            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                              dashboard_address=None) as cluster, Client(cluster) as client:
+                return _on_client(client, spec, plants, progress)
     finally:
         if saved is None:
             os.environ.pop("PYTHONPATH", None)
