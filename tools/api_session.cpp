@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <system_error>
 #include <utility>
@@ -21,6 +22,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using hil::Cycles;
+
+uint64_t next_session_id() {
+    static std::atomic<uint64_t> next{1};
+    return next++;
+}
 
 /// A private folder for the streamed artifacts (mkdtemp: never shared).
 fs::path make_staging() {
@@ -120,7 +126,7 @@ ApiSession::Live::~Live() {
     fs::remove_all(staging, ignored);
 }
 
-ApiSession::ApiSession(const ApiOptions& options) : options_(options), live_(start()) {}
+ApiSession::ApiSession(const ApiOptions& options) : options_(options), id_(next_session_id()), live_(start()) {}
 
 ApiSession::~ApiSession() = default;
 

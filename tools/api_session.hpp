@@ -106,7 +106,7 @@ struct ApiAction {
 
 /// A session's state at a cycle, to return to with ApiSession::restore.
 struct ApiSnapshot {
-    const void* session = nullptr;  ///< the ApiSession that took it
+    uint64_t session = 0;           ///< the ApiSession that took it (its id)
     hil::Cycles cycle = 0;
     std::vector<ApiAction> log;     ///< every act before `cycle`
     std::size_t read_mark = 0;      ///< serial_read_new()'s mark
@@ -215,6 +215,7 @@ private:
     FirmwareRun& run();
 
     ApiOptions options_;
+    uint64_t id_;  ///< unique in the process: a snapshot names its session by it, not by address
     std::unique_ptr<Live> live_;
 };
 

@@ -158,11 +158,11 @@ std::string ApiSession::isr_stats_json() {
 
 ApiSnapshot ApiSession::snapshot() {
     check_running();
-    return ApiSnapshot{this, cycle(), live_->log, live_->read_mark};
+    return ApiSnapshot{id_, cycle(), live_->log, live_->read_mark};
 }
 
 void ApiSession::restore(const ApiSnapshot& snap, const Between& between) {
-    if (snap.session != this) throw std::logic_error("restore: the snapshot was taken by another Session");
+    if (snap.session != id_) throw std::logic_error("restore: the snapshot was taken by another Session");
     std::unique_ptr<Live> before = std::exchange(live_, start());
     try {
         // The engine stops at the first instruction boundary at or after a

@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Collects `make bench`'s Google Benchmark results into one table.
 
-Reads BENCH_DIR/{hil,sim,plant,calibrate}.json (written by ddmr_hil_bench,
-ddmr_sim_bench, ddmr_plant_bench and ddmr_calibrate_bench), writes BENCH_DIR/results.json and prints a table: per
+Reads BENCH_DIR/{hil,sim,plant,calibrate,world}.json (written by ddmr_hil_bench,
+ddmr_sim_bench, ddmr_plant_bench, ddmr_calibrate_bench and ddmr_world_bench),
+python.json (tools/python/bench/bench_api.py) and monte_carlo.json
+(tools/python/examples/monte_carlo_circle.py), writes BENCH_DIR/results.json and prints a table: per
 benchmark the median and the spread (min..max over the repetitions) of its
-figure, then the ratios against the goals of issues 4, 6, 7 and 8. The
+figure, then the ratios against the goals of issues 4, 6, 7, 8, 18, 33 and 34. The
 machine is shared and noisy: the ratios of figures measured in the same run
 are the ones to trust.
 
@@ -63,7 +65,7 @@ def load(path):
 def main():
     bench = Path(sys.argv[1] if len(sys.argv) > 1 else "build/bench")
     runs = {}
-    for f in ("hil.json", "sim.json", "plant.json", "calibrate.json"):
+    for f in ("hil.json", "sim.json", "plant.json", "calibrate.json", "world.json"):
         runs.update(load(bench / f))
     rows = {}
     for name, e in runs.items():
@@ -144,6 +146,22 @@ def main():
         goal("calibration: RMS distance of the fitted plant to the logs, mm", r.get("rms_mm", 1e9), "< 5", r.get("rms_mm", 1e9) < 5.0)
         goal("calibration: true values inside their intervals (of 5)", r.get("truth_in_interval", 0), "5",
              r.get("truth_in_interval", 0) == 5)
+    # Issue 33: five sensors among 50 walls against 0 walls.
+    name = find("BM_WorldWallsCost")
+    if name and "ratio_50_to_0" in rows[name]:
+        ratio = rows[name]["ratio_50_to_0"]
+        goal("5 sensors, 50 walls / 0 walls (wall time)", ratio, "<= 1.10", ratio <= 1.10)
+    # Issue 34: tools/python/bench/bench_api.py and the Monte-Carlo example
+    # write plain JSON, not Google Benchmark's.
+    python = json.loads((bench / "python.json").read_text()) if (bench / "python.json").exists() else None
+    if python:
+        c, w = python["case1"], python["sweep"]
+        goal("case 1 driven from Python / ddmr-hil run (wall)", c["ratio"], "<= 1.05", c["ratio"] <= 1.05)
+        goal(f"Dask sweep of {w['plants']} plants: 1 worker / 2 workers", w["speedup"], ">= 1.7", w["speedup"] >= 1.7)
+    mc = json.loads((bench / "monte_carlo.json").read_text()) if (bench / "monte_carlo.json").exists() else None
+    if mc:
+        goal(f"Monte Carlo: fraction of {mc['plants']} plants within {mc['miss_limit_m'] * 100:.0f} cm of the goal",
+             mc["fraction_within"], "reported", True)
     if long1 and long10:
         a, b = rows[long1], rows[long10]
         goal("10-min / 1-min simulated run: Mcycles/s", b["median"] / a["median"], "~1 (linear cost)", b["median"] / a["median"] >= 0.9)

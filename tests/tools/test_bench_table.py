@@ -71,3 +71,18 @@ def test_over_repetitions_the_table_keeps_the_worst(tmp_path):
     assert line.split()[-3] == "4.000", line
     row = results["benchmarks"]["BM_Calibrate5Params2Logs/iterations:1/real_time"]
     assert (row["truth_in_interval"], row["rms_mm"], row["n"]) == (4.0, 6.0, 2)
+
+
+def test_the_python_api_goals_come_from_bench_api_json(tmp_path):
+    """python.json as tools/python/bench/bench_api.py writes it: a ratio over
+    1.05 misses its goal, a speed-up of 1.7 or more meets its own."""
+    (tmp_path / "python.json").write_text(json.dumps({
+        "case1": {"python_median_s": 2.3, "run_median_s": 2.13, "ratio": 1.08, "rounds": 5, "goal_max": 1.05},
+        "sweep": {"workers_1_s": 34.0, "workers_2_s": 19.2, "speedup": 1.77, "plants": 16, "goal_min": 1.7},
+    }))
+    done = subprocess.run([sys.executable, str(TABLE), str(tmp_path)], capture_output=True, text=True, check=True)
+    lines = done.stdout.splitlines()
+    case1 = [line for line in lines if "case 1 driven from Python" in line]
+    speedup = [line for line in lines if "Dask sweep of 16 plants" in line]
+    assert len(case1) == 1 and case1[0].startswith("MISS") and "1.080" in case1[0], lines
+    assert len(speedup) == 1 and speedup[0].startswith("met ") and "1.770" in speedup[0], lines
