@@ -11,8 +11,10 @@
 #include <utility>
 
 #include "common/plant_yaml.hpp"
+#include "common/sketch_build.hpp"
 #include "common/truth_csv.hpp"
 #include "firmware_run_plan.hpp"
+#include "hil/board.hpp"
 #include "hil/board_description.hpp"
 #include "plant/params_yaml.hpp"
 #include "scenario/step_failed.hpp"
@@ -22,6 +24,15 @@ namespace {
 
 namespace fs = std::filesystem;
 using hil::Cycles;
+
+/// The sketch's build for the board the board file names (else the Uno).
+SketchBuildOptions sketch_options(const ApiOptions& o) {
+    SketchBuildOptions b;
+    b.fqbn = hil::board_description(o.board_file ? hil::load_board_file(*o.board_file).model : hil::BoardModel::uno).fqbn;
+    b.libraries = o.libraries;
+    b.more_libraries_advice = "pass libraries=[DIR]";
+    return b;
+}
 
 uint64_t next_session_id() {
     static std::atomic<uint64_t> next{1};
@@ -62,9 +73,10 @@ plant::RobotParams resolve_plant(const ApiOptions& o, std::string& source) {
     return plant::parse_robot_params(e.c_str(), o.plant_overrides.empty() ? source : "plant overrides");
 }
 
-FirmwareRunOptions run_options(const ApiOptions& o, const fs::path& staging) {
+FirmwareRunOptions run_options(const ApiOptions& o, const nlohmann::json& firmware_source, const fs::path& staging) {
     FirmwareRunOptions fo;
     fo.firmware = o.firmware;
+    fo.firmware_source = firmware_source;
     if (o.contract) {
         fo.contract = *o.contract;
     } else {
@@ -94,9 +106,9 @@ FirmwareRunOptions run_options(const ApiOptions& o, const fs::path& staging) {
 
 }  // namespace
 
-ApiSession::Live::Live(const ApiOptions& options) : staging(make_staging()) {
+ApiSession::Live::Live(const ApiOptions& options, const nlohmann::json& firmware_source) : staging(make_staging()) {
     try {
-        run = std::make_unique<FirmwareRun>(run_options(options, staging));
+        run = std::make_unique<FirmwareRun>(run_options(options, firmware_source, staging));
     } catch (...) {
         std::error_code ignored;
         fs::remove_all(staging, ignored);
@@ -126,11 +138,24 @@ ApiSession::Live::~Live() {
     fs::remove_all(staging, ignored);
 }
 
-ApiSession::ApiSession(const ApiOptions& options) : options_(options), id_(next_session_id()), live_(start()) {}
+ApiSession::ApiSession(const ApiOptions& options) : options_(options), id_(next_session_id()) {
+    if (!options_.sketch && options_.firmware.empty()) {
+        throw std::invalid_argument("Session: give firmware (an ELF built for the board's MCU) or sketch (an .ino to build)");
+    }
+    if (options_.sketch) {
+        if (!options_.firmware.empty()) {
+            throw std::invalid_argument("Session: give firmware (an ELF) or sketch (an .ino to build), not both");
+        }
+        const SketchBuild built = build_sketch(sketch_ino(*options_.sketch, "sketch"), sketch_options(options_));
+        options_.firmware = built.elf;
+        firmware_source_ = sketch_build_json(built);
+    }
+    live_ = start();
+}
 
 ApiSession::~ApiSession() = default;
 
-std::unique_ptr<ApiSession::Live> ApiSession::start() const { return std::make_unique<Live>(options_); }
+std::unique_ptr<ApiSession::Live> ApiSession::start() const { return std::make_unique<Live>(options_, firmware_source_); }
 
 FirmwareRun& ApiSession::run() { return *live_->run; }
 const std::vector<std::string>& ApiSession::truth_columns() const { return live_->truth_columns; }
@@ -274,7 +299,6 @@ bool ApiSession::pin_level(int pin) {
 }
 
 double ApiSession::pwm_duty(int pin) {
-    hil::AvrCore& core = run().session().core();
     (void)pin_level(pin);  // builds and advances its waveform
     const hil::PinWaveforms& w = *live_->waveforms[pin];
     return w.mode(pin) == hil::PinMode::output ? w.duty(pin) : 0.0;

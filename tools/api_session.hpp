@@ -34,6 +34,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "firmware_run.hpp"
 #include "scenario/fault_steps.hpp"
 #include "hil/loop_profiler.hpp"
@@ -57,6 +59,11 @@ public:
 
 struct ApiOptions {
     std::filesystem::path firmware;
+    /// An Arduino sketch (x/x.ino, or its folder) to build for the board
+    /// (cached, docs/firmware.md) instead of `firmware`; the user's library
+    /// folders after the sketch's src/.
+    std::optional<std::filesystem::path> sketch;
+    std::vector<std::filesystem::path> libraries;
     std::optional<std::filesystem::path> board_file;
     std::optional<std::filesystem::path> plant_file;
     /// Overrides merged into the plant (file or defaults) one after the
@@ -215,6 +222,7 @@ private:
     FirmwareRun& run();
 
     ApiOptions options_;
+    nlohmann::json firmware_source_;  ///< the sketch build's (summary.json's firmware_source), or null
     uint64_t id_;  ///< unique in the process: a snapshot names its session by it, not by address
     std::unique_ptr<Live> live_;
 };

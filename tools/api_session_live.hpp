@@ -70,7 +70,7 @@ struct ApiSession::Live {
     std::string ended;  ///< why the run cannot go on ("" while it can)
     std::string exit_reason;
 
-    explicit Live(const ApiOptions& options);
+    Live(const ApiOptions& options, const nlohmann::json& firmware_source);
     ~Live();
     Live(const Live&) = delete;
     Live& operator=(const Live&) = delete;

@@ -90,17 +90,7 @@ void resolve_firmware(const RunCli& cli, FirmwareRunOptions& o) {
                                           hil::board_description(p.board).key);
         o.firmware_source = platformio_json(p);
     } else if (!cli.sketch.empty()) {
-        // A sketch folder x/ is x/x.ino (as arduino-cli takes it).
-        fs::path ino = cli.sketch;
-        if (fs::is_directory(ino)) {
-            const fs::path folder = ino.filename().empty() ? ino.parent_path() : ino;
-            ino = folder / (folder.filename().string() + ".ino");
-            if (!fs::is_regular_file(ino)) {
-                throw std::invalid_argument(fmt::format("--sketch {}: a folder without {} (a sketch folder holds the "
-                                                        ".ino of its name)",
-                                                        cli.sketch, ino.filename().string()));
-            }
-        }
+        const fs::path ino = sketch_ino(cli.sketch, "--sketch");
         // The board: --board-name, else the board file's, else the Uno.
         hil::BoardModel model = hil::BoardModel::uno;
         if (!cli.board_name.empty()) {

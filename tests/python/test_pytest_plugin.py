@@ -47,7 +47,7 @@ def test_without_a_firmware_the_fixture_says_how_to_give_one(pytester):
     pytester.makepyfile("def test_x(hil):\n    pass\n")
     r = pytester.runpytest()
     assert r.ret != 0
-    r.stdout.fnmatch_lines(["*--hil-firmware ELF or @pytest.mark.hil(firmware=...)*"])
+    r.stdout.fnmatch_lines(["*--hil-firmware ELF, --hil-sketch INO or @pytest.mark.hil(firmware=...)*"])
 
 
 def test_xdist_gives_the_serial_runs_files(pytester, reference_elf, monkeypatch):

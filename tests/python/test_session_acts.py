@@ -152,3 +152,30 @@ def test_the_loop_profile_needs_the_profiler(reference_elf):
         s.loop_profile()
     with pytest.raises(ddmr_hil.UsageError, match=r"Session\(instruments=False\)"):
         s.isr_stats()
+
+
+def test_a_sketch_is_built_for_the_board_and_a_held_sonar_reading_stops_the_avoider(source_dir):
+    """firmware/examples/obstacle_avoider_servo from its sketch: it stops and
+    prints "stop CM" when its sonar reads under 30 cm. The world's wall is
+    1.2 m ahead; held at 0.2 m it stops at once: 2 x 0.2 / 343.5 s = 1164 us,
+    / 58 us a cm = 20 cm (pulseIn may count a little short: 19)."""
+    import re
+
+    example = source_dir / "firmware" / "examples" / "obstacle_avoider_servo"
+    s = Session(sketch=example, board=example / "board.yaml", world=example / "world.yaml", instruments=False)
+    s.run_until_serial("obstacle_avoider_servo ready", timeout_s=3)
+    s.run_for(0.3)
+    assert b"stop" not in s.serial.text  # the wall is 1.2 m away
+    s.sensor("sonar").set(distance_m=0.2)
+    s.run_until_serial("stop ", timeout_s=0.5)
+    s.run_until_serial("\n", timeout_s=0.1)
+    assert re.search(rb"stop (19|20)\r?\n", s.serial.text), s.serial.text
+
+
+def test_firmware_or_sketch_one_of_them(tmp_path, reference_elf):
+    with pytest.raises(ddmr_hil.ConfigError, match="give firmware .* or sketch"):
+        Session()
+    with pytest.raises(ddmr_hil.ConfigError, match="not both"):
+        Session(firmware=reference_elf, sketch=tmp_path)
+    with pytest.raises(ddmr_hil.ConfigError, match=r"a folder without .*\.ino"):
+        Session(sketch=tmp_path)

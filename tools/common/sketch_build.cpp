@@ -171,6 +171,17 @@ void add_zero_call_warnings(SketchBuild& b) {
 
 }  // namespace
 
+fs::path sketch_ino(const fs::path& sketch, const std::string& what) {
+    if (!fs::is_directory(sketch)) return sketch;
+    const fs::path folder = sketch.filename().empty() ? sketch.parent_path() : sketch;
+    fs::path ino = folder / (folder.filename().string() + ".ino");
+    if (!fs::is_regular_file(ino)) {
+        throw std::invalid_argument(fmt::format("{} {}: a folder without {} (a sketch folder holds the .ino of its name)",
+                                                what, sketch.string(), ino.filename().string()));
+    }
+    return ino;
+}
+
 SketchBuild build_sketch(const fs::path& ino, const SketchBuildOptions& options) {
     if (ino.extension() != ".ino") throw SketchBuildError(fmt::format("sketch {}: not a .ino file", ino.string()));
     if (!fs::is_regular_file(ino)) throw SketchBuildError(fmt::format("sketch {}: no such file", ino.string()));

@@ -64,6 +64,11 @@ public:
     using std::invalid_argument::invalid_argument;
 };
 
+/// The .ino a sketch argument names: the file itself, or for a folder x/
+/// its x/x.ino (as arduino-cli takes it). Throws std::invalid_argument
+/// "`what` ARG: a folder without x.ino ..." when the folder has none.
+std::filesystem::path sketch_ino(const std::filesystem::path& sketch, const std::string& what);
+
 /// The ELF of `ino`, built now or taken from the cache. Throws
 /// SketchBuildError naming the sketch: not a .ino, its folder not named after
 /// it (Arduino's rule), a header no library folder has (`FILE:LINE: 'X.h'

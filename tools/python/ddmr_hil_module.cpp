@@ -48,6 +48,10 @@ ApiOptions make_options(const py::dict& kw) {
         return std::filesystem::path(py::str(kw[key]).cast<std::string>());
     };
     o.firmware = path("firmware").value_or(std::filesystem::path());
+    o.sketch = path("sketch");
+    if (kw.contains("libraries") && !kw["libraries"].is_none()) {
+        for (const auto& d : kw["libraries"]) o.libraries.emplace_back(py::str(d).cast<std::string>());
+    }
     o.board_file = path("board");
     o.plant_file = path("plant_file");
     o.world_file = path("world");

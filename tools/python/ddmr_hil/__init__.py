@@ -198,6 +198,9 @@ class Session:
     plant, the world.
 
     firmware   the ELF (built for the board's MCU)
+    sketch     instead of firmware: an Arduino sketch (x/x.ino or its folder),
+               built for the board with arduino-builder (cached; docs/firmware.md)
+    libraries  the sketch's library folders (folders *of* libraries), after its src/
     board      a board file (docs/boards.md); None: the thesis robot's wiring
     plant      a plant file (docs/plant.md), or a dict of overrides on the
                defaults ({"motor1": {"resistance_ohm": 6.0}}); None: defaults
@@ -216,7 +219,7 @@ class Session:
 
     def __init__(
         self,
-        firmware: PathLike,
+        firmware: Optional[PathLike] = None,
         board: Optional[PathLike] = None,
         world: Optional[PathLike] = None,
         plant: Union[None, PathLike, dict] = None,
@@ -228,6 +231,8 @@ class Session:
         instruments: bool = True,
         profile: bool = False,
         loop_mark: Optional[str] = None,
+        sketch: Optional[PathLike] = None,
+        libraries: Optional[list] = None,
     ):
         overrides = {}
         plant_file = None
@@ -237,7 +242,9 @@ class Session:
             plant_file = os.fspath(plant)
         layers = [layer for layer in (overrides, plant_overrides) if layer]  # merged in C++, in order
         kw = {
-            "firmware": os.fspath(firmware),
+            "firmware": _path(firmware),
+            "sketch": _path(sketch),
+            "libraries": [os.fspath(d) for d in libraries or []],
             "board": _path(board),
             "world": _path(world),
             "plant_file": plant_file,

@@ -32,6 +32,7 @@ from . import Session
 
 _OPTIONS = {
     "firmware": "the firmware ELF of the `hil` fixture's sessions",
+    "sketch": "instead of --hil-firmware: an Arduino sketch (x/x.ino or its folder), built for the board (cached)",
     "board": "board file (docs/boards.md)",
     "plant": "plant file (docs/plant.md)",
     "world": "world file (docs/world.md)",
@@ -72,6 +73,7 @@ def _session_kwargs(request) -> dict:
     opt = request.config.getoption
     kw = {
         "firmware": opt("hil_firmware"),
+        "sketch": opt("hil_sketch"),
         "board": opt("hil_board"),
         "plant": opt("hil_plant"),
         "world": opt("hil_world"),
@@ -82,8 +84,9 @@ def _session_kwargs(request) -> dict:
         if marker.args:
             raise pytest.UsageError("@pytest.mark.hil takes keywords only (Session's: firmware=, plant=, ...)")
         kw.update(marker.kwargs)
-    if not kw.get("firmware"):
-        raise pytest.UsageError("the hil fixture needs a firmware: --hil-firmware ELF or @pytest.mark.hil(firmware=...)")
+    if not kw.get("firmware") and not kw.get("sketch"):
+        raise pytest.UsageError("the hil fixture needs a firmware: --hil-firmware ELF, --hil-sketch INO or "
+                                "@pytest.mark.hil(firmware=...)")
     return {k: v for k, v in kw.items() if v is not None}
 
 
