@@ -31,6 +31,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <random>
 #include <set>
 
@@ -85,6 +86,7 @@ public:
         out.push_back(static_cast<double>(samples_));
     }
     std::vector<std::string> warnings() const override { return warnings_; }
+    void set_reading(const std::string& /*name*/, std::optional<double> value) override { held_z_dps_ = value; }
 
     void on_plant_step(Cycles pose_cycle) override {
         const double dt = cycles_to_s(pose_cycle - last_cycle_, core_.clock_hz());
@@ -95,7 +97,9 @@ public:
             primed_ = true;
             return;
         }
-        filter(plant::imu_reading(poses_[0], poses_[1], poses_[2], dt, mount_), dt);
+        plant::ImuReading raw = plant::imu_reading(poses_[0], poses_[1], poses_[2], dt, mount_);
+        if (held_z_dps_) raw.gyro_rad_s.z() = *held_z_dps_ * plant::kPi / 180.0;  // before the DLPF, as the chip's rate
+        filter(raw, dt);
         if (asleep()) return;
         if (pose_cycle >= next_sample_) {
             next_sample_ = pose_cycle + sample_period();
@@ -183,6 +187,7 @@ private:
     TwiSlave twi_;
     plant::ImuMount mount_;
     double bias_dps_, gyro_noise_dps_, accel_noise_g_, temperature_c_;
+    std::optional<double> held_z_dps_;  ///< set_reading's rate about the chip's Z
     std::mt19937_64 rng_;
     DrivenSignal none_;
     std::array<plant::Pose, 3> poses_{};
@@ -223,6 +228,9 @@ std::optional<PartKeyProblem> check(const PartEntry& e, const BoardDescription& 
 PartType imu_mpu6050_type() {
     PartType t;
     t.type = "imu";
+    t.readings = {{"gyro_z_dps", "the rate about the chip's Z axis [deg/s], in place of the robot's turn (then the "
+                                 "DLPF, the bias and the noise, as the motion's)",
+                   -2000.0, 2000.0}};
     t.summary = "MPU-6050 (GY-521) on the I2C bus: gyro, accelerometer and temperature registers from the robot's motion";
     t.datasheet = "InvenSense RM-MPU-6000A-00 rev. 4.2 (register map), PS-MPU-6000A-00 rev. 3.4 (scales, noise)";
     t.keys = {PartKey::input("SDA", "the I2C data line: the board's TWI SDA pin (Uno A4, Mega 20)"),

@@ -3,6 +3,8 @@
 // hand from the register map (hil/parts/imu_mpu6050.cpp).
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <cstdint>
 
 #include "hil/cycle_time.hpp"
@@ -69,6 +71,20 @@ TEST(ImuMpu6050, UpsideDownFlipsTheYawRateAndTheBiasAdds) {
     rig.run_ms(100);
     EXPECT_EQ(rig.gyro(2), -3668);
     EXPECT_EQ(rig.gyro(0), 262);  // 2 x 131
+}
+
+TEST(ImuMpu6050, AHeldYawRateReplacesTheTurnUntilReleased) {
+    // Held at -100 deg/s while the robot turns at +30: -100 x 131 = -13100;
+    // released: the turn's 3930 again (after the DLPF settles).
+    ImuRig rig(kQuiet);
+    rig.rate_dps = 30.0;
+    rig.parts.set_reading("imu", "gyro_z_dps", -100.0);
+    rig.run_ms(100);
+    EXPECT_EQ(rig.gyro(2), -13100);
+    EXPECT_EQ(rig.gyro(0), 0);
+    rig.parts.set_reading("imu", "gyro_z_dps", std::nullopt);
+    rig.run_ms(100);
+    EXPECT_EQ(rig.gyro(2), 3930);
 }
 
 TEST(ImuMpu6050, AsleepAtResetItsRegistersStayZero) {

@@ -139,7 +139,7 @@ class Sensor:
     """A part of the board's `parts:` list whose readings a test may hold in
     place of the world's (docs/python.md, "Holding a sensor's reading"):
     ultrasonic distance_m, reflectance reflectance, bumper pressed,
-    ir-obstacle detected."""
+    ir-obstacle detected, imu gyro_z_dps."""
 
     def __init__(self, core: _Session, name: str):
         self._core = core
