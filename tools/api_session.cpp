@@ -304,12 +304,6 @@ double ApiSession::pwm_duty(int pin) {
     return w.mode(pin) == hil::PinMode::output ? w.duty(pin) : 0.0;
 }
 
-double ApiSession::var_read(const std::string& name, const std::string& type) {
-    hil::Session& session = run().session();
-    const hil::TracedVariable v = parse_trace_spec(type.empty() ? name : name + ":" + type, session.elf());
-    return session.rig().variables().read(v.name, v.type);
-}
-
 plant::Pose ApiSession::pose() { return run().session().rig().robot().pose(); }
 
 std::vector<uint8_t> ApiSession::eeprom() {

@@ -125,6 +125,11 @@ void ApiSession::apply(const ApiAction::Act& action) {
         action);
 }
 
+double ApiSession::var_read(const std::string& name, const std::string& type) {
+    hil::Session& session = run().session();
+    return session.rig().variables().read(resolve_var(session, name, type));
+}
+
 void ApiSession::fault(const std::string& kind, const std::string& value) { act(ApiAction::Fault{kind, value}); }
 void ApiSession::serial_write(const std::string& bytes) { act(ApiAction::SerialWrite{bytes}); }
 void ApiSession::pin_drive(int pin, bool level) { act(ApiAction::PinDrive{pin, level}); }

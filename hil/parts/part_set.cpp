@@ -215,12 +215,12 @@ void PartSet::truth_values(std::vector<double>& out) const {
 }
 
 void PartSet::set_reading(const std::string& name, const std::string& reading, std::optional<double> value) {
-    std::vector<std::string> settable_parts;
-    for (const Built& b : parts_) {
-        if (!b.type->readings.empty()) settable_parts.push_back(fmt::format("{} ({})", b.name, b.type->type));
-    }
     const auto it = std::find_if(parts_.begin(), parts_.end(), [&](const Built& b) { return b.name == name; });
     if (it == parts_.end() || it->type->readings.empty()) {
+        std::vector<std::string> settable_parts;
+        for (const Built& b : parts_) {
+            if (!b.type->readings.empty()) settable_parts.push_back(fmt::format("{} ({})", b.name, b.type->type));
+        }
         throw std::invalid_argument(fmt::format(
             "sensor '{}': {}; the board's parts with settable readings are: {}", name,
             it == parts_.end() ? "the board has no such part" : "its readings cannot be set (" + it->type->type + ")",
