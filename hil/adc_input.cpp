@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "hil/atmega328p.hpp"
+#include "hil/simavr_io.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -32,12 +33,7 @@ constexpr unsigned kAdpsMask = 0x07;
 constexpr unsigned kRefsShift = 6;
 
 /// simavr's ADC module of `avr` (its io list; avr_io_t is avr_adc_t's first member).
-avr_adc_t* simavr_adc(avr_t* avr) {
-    for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
-        if (io->kind != nullptr && std::strcmp(io->kind, "adc") == 0) return reinterpret_cast<avr_adc_t*>(io);
-    }
-    return nullptr;
-}
+avr_adc_t* simavr_adc(avr_t* avr) { return simavr_io_module<avr_adc_t>(avr, "adc"); }
 
 /// The channel a conversion selected: ADC0..7 as simavr reports them, ADC8..15
 /// from the entries claim_high_channels rewrote; -1 for anything else.

@@ -296,6 +296,10 @@ RunStop AvrCore::run_until(Cycles target) {
             const int state = avr_run(avr);
             if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // the next instruction, on every path
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
+            if (fast_forward_ && step_watch_ == nullptr && fast_forward_->after_batch(flag.reached, stop_requested_) &&
+                step_watch_ != nullptr) {
+                step_watch_(step_watch_context_);  // an interrupt it stepped into switched the watch on
+            }
         }
     }
     avr_cycle_timer_cancel(avr, &on_target, &flag);
@@ -303,6 +307,20 @@ RunStop AvrCore::run_until(Cycles target) {
     const RunStop stop = state_stop();
     if (stop == RunStop::kReachedCycle && stop_requested_) return RunStop::kCondition;
     return stop;
+}
+
+void AvrCore::set_fast_forward(bool on) {
+    if (!on) {
+        fast_forward_.reset();
+    } else if (!fast_forward_) {
+        fast_forward_ = std::make_unique<FastForward>(avr_.get(), mcu(), replayable_);
+    }
+}
+
+void AvrCore::forget_replay(const void* param) {
+    replayable_.erase(std::remove_if(replayable_.begin(), replayable_.end(),
+                                     [param](const ReplayableTimer& r) { return r.param == param; }),
+                      replayable_.end());
 }
 
 Cycles AvrCore::free_run_limit() const { return step_watch_ != nullptr ? 1 : config_.run_cycle_limit; }
@@ -423,7 +441,15 @@ RunStop AvrCore::run_until_return_from(const ElfSymbol& function, Cycles target)
     }
     ReturnWatch watch{this, function.address, function.address + function.size, false, 0};
     avr_cycle_timer_register(avr_.get(), kReturnSamplePeriod, &on_return_sample, &watch);
+    // Replayable over passes that cannot make a sample act: once the call is
+    // found, passes whose SP stays below its slot; before, passes outside the function.
+    allow_replay({&on_return_sample, &watch, [&watch](const LoopSpan& s) {
+                      if (watch.entered) return s.max_sp < watch.sp_before_call;
+                      return std::none_of(s.pcs->begin(), s.pcs->end(),
+                                          [&watch](uint32_t pc) { return pc >= watch.begin && pc < watch.end; });
+                  }});
     const RunStop stop = run_until(target);
+    forget_replay(&watch);
     avr_cycle_timer_cancel(avr_.get(), &on_return_sample, &watch);
     stop_requested_ = false;
     return stop;

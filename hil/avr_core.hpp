@@ -23,6 +23,7 @@
 #include "hil/board_description.hpp"
 #include "hil/cycle_time.hpp"
 #include "hil/elf_image.hpp"
+#include "hil/fast_forward.hpp"
 #include "hil/pin_change_restorer.hpp"
 #include "hil/simavr_log.hpp"
 
@@ -161,6 +162,20 @@ public:
     RunStop run_until_return_from(const ElfSymbol& function, Cycles target);
     static constexpr Cycles kReturnSamplePeriod = 256;
 
+    /// Skips whole passes of busy-wait loops in free runs (hil/fast_forward.hpp);
+    /// off by default. Not applied while instruction hooks or a step watch
+    /// are installed (those runs step every instruction).
+    void set_fast_forward(bool on);
+    /// Declares a part's observing cycle timer replayable after a jump
+    /// (hil/fast_forward.hpp: ReplayableTimer); withdrawn with its owner.
+    void allow_replay(ReplayableTimer timer) {
+        // cppcheck-suppress danglingLifetime ; a caller's local timer is withdrawn (forget_replay) before it ends
+        replayable_.push_back(std::move(timer));
+    }
+    void forget_replay(const void* param);
+    /// The fast-forward engine, or nullptr while it is off.
+    const FastForward* fast_forward() const { return fast_forward_.get(); }
+
     /// A 16-bit word of flash at a byte address (little-endian, as fetched).
     uint16_t flash_word(uint32_t byte_address) const;
 
@@ -187,6 +202,8 @@ private:
     /// Declared before avr_: simavr keeps pointers to its vectors until avr_ is freed.
     std::unique_ptr<PinChangeRestorer> pin_change_;
     std::unique_ptr<avr_t, AvrDeleter> avr_;
+    std::unique_ptr<FastForward> fast_forward_;
+    std::vector<ReplayableTimer> replayable_;
     bool stop_requested_ = false;
     /// A callback and who installed it (instruction hooks, reset listeners).
     struct OwnedCallback {

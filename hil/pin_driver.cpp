@@ -1,5 +1,7 @@
 #include "hil/pin_driver.hpp"
 
+#include "hil/simavr_io.hpp"
+
 #include <avr_ioport.h>
 #include <sim_avr.h>
 #include <sim_cycle_timers.h>
@@ -17,8 +19,7 @@ namespace {
 /// simavr's I/O port `letter` (its "external" levels are per port, shared
 /// by every part driving a pin of it), or nullptr.
 avr_ioport_t* ioport_of(avr_t* avr, char letter) {
-    for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
-        if (io->kind == nullptr || std::strcmp(io->kind, "port") != 0) continue;
+    for (avr_io_t* io : simavr_io_modules(avr, "port")) {
         // avr_ioport_t starts with its avr_io_t (avr_ioport.h).
         auto* port = reinterpret_cast<avr_ioport_t*>(io);
         if (port->name == letter) return port;

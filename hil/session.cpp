@@ -38,6 +38,7 @@ Session::Session(const ElfImage& elf, const RigConfig& config, SessionOptions op
     if (in.race_detector) races_ = std::make_unique<RaceDetector>(core, elf);
     if (options_.adapter_baud) adapter_ = std::make_unique<HostAdapter>(core, rig_->uart().usart(), *options_.adapter_baud);
     if (options_.gdb) gdb_ = std::make_unique<GdbServer>(core, *options_.gdb);
+    core.set_fast_forward(options_.fast_forward && !gdb_);
     rig_->uart().set_listener([this](const UartByte& b) {
         scratch_.clear();
         if (adapter_) {

@@ -83,6 +83,9 @@ struct SessionOptions {
     double wall_limit_s = 0.0;
     std::optional<GdbServerConfig> gdb;  ///< serve avr-gdb (bound at construction)
     bool echo_simavr_log = false;        ///< simavr's own messages on stderr
+    /// Skip whole passes of busy-wait loops exactly (hil/fast_forward.hpp);
+    /// never while avr-gdb serves the run.
+    bool fast_forward = true;
     /// Called about once per simulated second while run() runs (progress lines).
     std::function<void(Cycles)> on_progress;
 };

@@ -14,6 +14,8 @@ StackGuard::StackGuard(AvrCore& core, const ElfImage& elf, Cycles period)
       bss_end_(static_cast<uint16_t>(core.mcu().sram_start + elf.memory_use().ram_bytes())) {
     if (period_ == 0) throw std::invalid_argument("StackGuard: period must be >= 1 cycle");
     avr_cycle_timer_register(core_.raw(), period_, &StackGuard::on_sample, this);
+    // Over skipped passes whose SP stays above .bss, no sample would stop the run.
+    core_.allow_replay({&StackGuard::on_sample, this, [this](const LoopSpan& s) { return s.min_sp >= bss_end_; }});
     core_.add_reset_listener(this, [this] {
         if (!overflow_) avr_cycle_timer_register(core_.raw(), period_, &StackGuard::on_sample, this);
     });
@@ -21,6 +23,7 @@ StackGuard::StackGuard(AvrCore& core, const ElfImage& elf, Cycles period)
 
 StackGuard::~StackGuard() {
     core_.remove_reset_listener(this);
+    core_.forget_replay(this);
     avr_cycle_timer_cancel(core_.raw(), &StackGuard::on_sample, this);
 }
 

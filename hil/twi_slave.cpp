@@ -1,5 +1,7 @@
 #include "hil/twi_slave.hpp"
 
+#include "hil/simavr_io.hpp"
+
 #include <avr_twi.h>
 #include <sim_avr.h>
 #include <sim_io.h>
@@ -41,10 +43,8 @@ avr_cycle_count_t byte_cycles(const avr_t* avr, const McuDescription& mcu) {
 /// whose parameter is the TWI module, due later than now; a START's is due
 /// now and is left alone), it is registered again at the byte's bus time.
 void stretch_byte_to_bus_time(avr_t* avr, const McuDescription& mcu) {
-    const avr_io_t* twi = nullptr;
-    for (const avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
-        if (io->kind != nullptr && std::strcmp(io->kind, "twi") == 0) twi = io;
-    }
+    const std::vector<avr_io_t*> twis = simavr_io_modules(avr, "twi");
+    const avr_io_t* twi = twis.empty() ? nullptr : twis.back();
     if (twi == nullptr) return;
     for (const avr_cycle_timer_slot_t* t = avr->cycle_timers.timer; t != nullptr; t = t->next) {
         if (t->param != twi || t->when <= avr->cycle) continue;

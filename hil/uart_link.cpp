@@ -9,16 +9,15 @@
 #include <stdexcept>
 
 #include "hil/serial_line.hpp"
+#include "hil/simavr_io.hpp"
 
 namespace ddmr::hil {
 namespace {
 
 avr_uart_t* find_uart(avr_t* avr, char name) {
-    for (avr_io_t* io = avr->io_port; io != nullptr; io = io->next) {
-        if (io->kind != nullptr && std::strcmp(io->kind, "uart") == 0) {
-            auto* uart = reinterpret_cast<avr_uart_t*>(io);  // avr_io_t is its first member
-            if (uart->name == name) return uart;
-        }
+    for (avr_io_t* io : simavr_io_modules(avr, "uart")) {
+        auto* uart = reinterpret_cast<avr_uart_t*>(io);  // avr_io_t is its first member
+        if (uart->name == name) return uart;
     }
     return nullptr;
 }

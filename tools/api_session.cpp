@@ -96,6 +96,7 @@ FirmwareRunOptions run_options(const ApiOptions& o, const nlohmann::json& firmwa
     }
     fo.instruments = o.instruments;
     fo.profile = o.profile;
+    fo.fast_forward = o.fast_forward;
     if (!o.loop_mark.empty()) {
         fo.loop_mark = o.loop_mark;
         fo.loop_mark_given = true;

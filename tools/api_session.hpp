@@ -83,6 +83,8 @@ struct ApiOptions {
     /// single-steps: slower), for loop_profile().
     bool profile = false;
     std::string loop_mark;  ///< the function each iteration calls once; "": as `run` picks it
+    /// Skip busy-wait passes exactly (docs/fast-forward.md); false: execute them.
+    bool fast_forward = true;
 };
 
 /// One act on the robot, at the AVR cycle it happened (ApiSession's log).

@@ -1,3 +1,4 @@
+#include "fast_forward_report.hpp"
 #include "firmware_run.hpp"
 
 #include <fmt/format.h>
@@ -55,6 +56,7 @@ hil::SessionOptions session_options(const FirmwareRunOptions& options, const Run
     o.wall_limit_s = options.max_wall_seconds;
     if (options.gdb_port) o.gdb = hil::GdbServerConfig{*options.gdb_port, options.gdb_attach_timeout_s};
     o.echo_simavr_log = options.echo_simavr_log;
+    o.fast_forward = options.fast_forward;
     return o;
 }
 
@@ -241,6 +243,7 @@ json summary_json(hil::Session& session, const RunPlan& plan, const FirmwareRunO
                                        {"stack_overflows", fp->stack_overflows()}}
                                 : json(nullptr)},
         {"isr", isr.summary},
+        {"fast_forward", fast_forward_json(core, result.cycles_total)},
         {"plant_steps", rig.coupler().plant_steps()},
         {"firmware_report", plan.reports ? report_json(result.report) : json(nullptr)},
         {"unity", unity_json(result, options)},

@@ -128,6 +128,8 @@ struct FirmwareRunOptions {
     std::optional<std::filesystem::path> vcd;
     bool progress = false;                ///< one progress line per simulated second on stderr
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
+    /// Skip busy-wait passes exactly (hil/fast_forward.hpp); --no-fast-forward: off.
+    bool fast_forward = true;
     /// Serve avr-gdb on 127.0.0.1:PORT and wait for it before the first
     /// instruction (hil/gdb_server.hpp); 1..65535.
     std::optional<uint16_t> gdb_port;

@@ -361,6 +361,9 @@ void add_console_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
                                                "stderr is a terminal)");
     sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
     sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
+    sub->add_flag("!--no-fast-forward", cli->options.fast_forward,
+                  "Execute every instruction of busy-wait loops (delay(), flag polls) instead of skipping "
+                  "whole passes of them exactly: for comparison (docs/fast-forward.md)");
 }
 
 /// The instruments: profiler, variable traces, avr-gdb, VCD, ISR monitor, stack guard, race detector.

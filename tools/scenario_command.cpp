@@ -50,6 +50,7 @@ struct ScenarioCli {
     bool progress = false;
     bool list_steps = false;
     bool update_golden = false;
+    bool no_fast_forward = false;
 };
 
 /// Loads a scenario and builds the sketch it names (cached) if it names one.
@@ -64,6 +65,7 @@ sc::LoadOptions load_options(const ScenarioCli& cli) {
 
 sc::Scenario load(const std::string& file, const ScenarioCli& cli) {
     sc::Scenario s = sc::load_scenario(file, load_options(cli));
+    if (cli.no_fast_forward) s.fast_forward = false;
     if (s.sketch) {
         SketchBuildOptions o;
         o.fqbn = hil::board_description(s.board.model).fqbn;
@@ -203,6 +205,7 @@ int run_suite(const ScenarioCli& cli) {
         if (!cli.firmware.empty()) args.insert(args.end(), {"--firmware", fs::absolute(cli.firmware).string()});
         for (const auto& lib : cli.libraries) args.insert(args.end(), {"--libraries", fs::absolute(lib).string()});
         if (cli.update_golden) args.emplace_back("--update-golden");
+        if (cli.no_fast_forward) args.emplace_back("--no-fast-forward");
         if (cli.progress) {
             args.emplace_back("--progress");
             std::fprintf(stderr, "  start %s (%s)\n", s.name.c_str(), s.file.string().c_str());
@@ -279,6 +282,9 @@ Subcommand register_scenario_command(CLI::App& app) {
     sub->add_flag("--update-golden", cli->update_golden,
                   "Record what expect-eeprom (its bin/log file) and expect-pose (x_m, y_m, theta_rad in the scenario "
                   "file) steps see instead of checking it; written only when every other step passes");
+    sub->add_flag("--no-fast-forward", cli->no_fast_forward,
+                  "Execute every pass of the firmware's busy-wait loops instead of skipping them exactly, in "
+                  "every scenario (as `fast-forward: false`; docs/fast-forward.md)");
     sub->add_option("--out", cli->out_dir, "Results folder: one sub-folder per scenario, results.json")
         ->capture_default_str();
     sub->add_option("--junit", cli->junit, "Also write JUnit XML here");

@@ -163,3 +163,22 @@ def test_ctrl_c_stops_run_contract_which_then_cannot_run_on(reference_elf):
         s.run_contract(case=1)
     with pytest.raises(ddmr_hil.RunEnded, match=r"run_contract\(\) was stopped before the contract's end"):
         s.run_for(0.1)
+
+
+def test_fast_forward_off_gives_the_same_run(tmp_path, reference_elf):
+    """docs/fast-forward.md: a session skipping busy-wait passes and one
+    executing them stop on the same condition at the same cycle, with the
+    same bytes and the same ground truth."""
+    runs = []
+    for ff in (True, False):
+        s = Session(firmware=reference_elf, fast_forward=ff)
+        s.run_for(5.2)
+        s.serial.write(b"2")
+        s.run_until(lambda s: s.var("Count1", "int32").value >= 500, timeout_s=5.0)
+        s.save_artifacts(tmp_path / str(ff))
+        runs.append((s.time_s, s.serial.text, s.truth.history()))
+    assert runs[0][0] == runs[1][0]
+    assert runs[0][1] == runs[1][1]
+    np.testing.assert_array_equal(runs[0][2], runs[1][2])
+    for name in ("uart.txt", "truth.csv", "eeprom.bin", "isr.json"):
+        assert (tmp_path / "True" / name).read_bytes() == (tmp_path / "False" / name).read_bytes(), name

@@ -61,6 +61,7 @@ ApiOptions make_options(const py::dict& kw) {
     if (kw.contains("max_sim_s")) o.max_sim_seconds = kw["max_sim_s"].cast<double>();
     if (kw.contains("baud") && !kw["baud"].is_none()) o.baud = kw["baud"].cast<uint32_t>();
     if (kw.contains("profile")) o.profile = kw["profile"].cast<bool>();
+    if (kw.contains("fast_forward")) o.fast_forward = kw["fast_forward"].cast<bool>();
     if (kw.contains("loop_mark") && !kw["loop_mark"].is_none()) o.loop_mark = kw["loop_mark"].cast<std::string>();
     if (kw.contains("instruments")) {
         const bool on = kw["instruments"].cast<bool>();

@@ -242,6 +242,9 @@ struct Scenario {
     plant::DriveMode pwm = plant::DriveMode::switched;
     hil::EepromTimingMode eeprom_timing = hil::EepromTimingMode::kDatasheet;
     uint64_t seed = 1;
+    /// `fast-forward: false` (or `scenario --no-fast-forward`): execute every
+    /// pass of busy-wait loops instead of skipping them exactly (docs/fast-forward.md).
+    bool fast_forward = true;
     Cycles timeout = 0;                  ///< simulated-time limit of the whole scenario
     uint32_t baud = 9600;                ///< the host's serial adapter
     int serial_usart = 0;                ///< `serial: {port: Serial1}`: the USART the adapter is on

@@ -40,6 +40,7 @@
 #include "hostsim/host_sim.hpp"
 #include "scenario/scenario_expect.hpp"
 #include "scenario/scenario_golden.hpp"
+#include "fast_forward_report.hpp"
 #include "scenario/scenario_result_json.hpp"
 #include "scenario/step_failed.hpp"
 #include "scenario/text_window.hpp"
@@ -104,6 +105,7 @@ public:
         options.adapter_baud = s.baud;
         if (s.eeprom_preload) options.eeprom_preload = hil::EepromPort::load_image(*s.eeprom_preload, *board.mcu);
         options.time_limit = s.timeout;
+        options.fast_forward = s.fast_forward;
         session_ = std::make_unique<hil::Session>(elf_, config, std::move(options));
         session_->set_failure_wording(hil::FailureWording::kInStep);  // the step's failure line gives the time
         rig_ = &session_->rig();
@@ -498,7 +500,8 @@ private:
     }
 
     void write_artifacts(const ScenarioResult& r) {
-        const json result = scenario_result_json(s_, r, rig_->warnings());
+        json result = scenario_result_json(s_, r, rig_->warnings());
+        result["fast_forward"] = fast_forward_json(core(), r.cycles);
         const hil::EepromImage image = rig_->eeprom().read_all();
         uart_txt_->commit();
         write_file_atomic(out_dir_ / "eeprom.bin",

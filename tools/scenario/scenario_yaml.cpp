@@ -184,9 +184,10 @@ void read_libraries(const Ctx& top, const YAML::Node& root, const LoadOptions& o
     }
 }
 
-/// seed, timeout, pwm, eeprom-timing: how the run goes.
+/// seed, timeout, pwm, eeprom-timing, fast-forward: how the run goes.
 void read_run_settings(const Ctx& top, const YAML::Node& root, Scenario& s) {
     if (root["seed"]) s.seed = top.at(root["seed"], "seed").count();
+    if (root["fast-forward"]) s.fast_forward = top.at(root["fast-forward"], "fast-forward").boolean();
     s.timeout = top.at(root["timeout"], "timeout").duration();
     if (s.timeout == 0) top.at(root["timeout"], "timeout").fail("must be longer than 0");
     if (root["pwm"]) {
@@ -306,7 +307,7 @@ Scenario parse_scenario(std::string_view yaml_text, const fs::path& file, const 
     const Ctx top(file, root, "(top)", board, &s.board);
     read_world_file(root, file, s);
     top.keys({"name", "description", "version", "author", "firmware", "libraries", "board", "world", "plant", "pwm",
-              "eeprom-timing", "seed", "timeout", "serial", "eeprom", "steps"},
+              "eeprom-timing", "seed", "fast-forward", "timeout", "serial", "eeprom", "steps"},
              {"steps", "timeout"});
     s.name = root["name"] ? top.at(root["name"], "name").str() : file.stem().string();
     if (root["description"]) s.description = top.at(root["description"], "description").str();

@@ -213,6 +213,8 @@ class Session:
     baud       the host's serial adapter (8N1); None: bytes as sent
     instruments  the ISR monitor, stack guard and race detector (default on)
     profile    the loop profiler, for loop_profile() (exact; single-steps: slower)
+    fast_forward  skip whole passes of busy-wait loops exactly (default on;
+               docs/fast-forward.md); False executes every instruction
     loop_mark  the function each control-loop iteration calls once; None: as
                `ddmr-hil run --profile` picks it (the contract's, else delay)
     """
@@ -233,6 +235,7 @@ class Session:
         loop_mark: Optional[str] = None,
         sketch: Optional[PathLike] = None,
         libraries: Optional[list] = None,
+        fast_forward: bool = True,
     ):
         overrides = {}
         plant_file = None
@@ -256,6 +259,7 @@ class Session:
             "instruments": bool(instruments),
             "profile": bool(profile),
             "loop_mark": loop_mark,
+            "fast_forward": bool(fast_forward),
         }
         self._core = _Session(kw)
         self.serial = Serial(self._core)

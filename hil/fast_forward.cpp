@@ -1,0 +1,385 @@
+#include "hil/fast_forward.hpp"
+
+#include <avr_ioport.h>
+#include <avr_timer.h>
+#include <sim_avr.h>
+#include <sim_cycle_timers.h>
+#include <sim_interrupts.h>
+#include <sim_regbit.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+
+#include "hil/avr_decode.hpp"
+#include "hil/mcu.hpp"
+#include "hil/simavr_io.hpp"
+
+namespace ddmr::hil {
+namespace {
+
+/// A pass longer than this is not a busy-wait loop worth skipping.
+constexpr std::size_t kMaxPassSteps = 400;
+constexpr Cycles kMaxPassCycles = 2000;
+/// Fewer passes than this per jump do not pay for the verification pass.
+constexpr Cycles kMinPassesPerJump = 2;
+/// After a learning attempt an interrupt or a stop cut short.
+constexpr Cycles kLearningBackoff = 4096;
+/// Passes that twice left their path before it repeated: refused after this many tries.
+constexpr int kMaxLearningTries = 16;
+
+uint16_t stack_pointer(const avr_t* avr, const McuDescription& mcu) {
+    return static_cast<uint16_t>(avr->data[mcu.spl] | (avr->data[mcu.sph] << 8));
+}
+
+uint16_t flash_word(const avr_t* avr, uint32_t byte_address) {
+    if (byte_address + 1 > avr->flashend) return 0xFFFF;
+    return static_cast<uint16_t>(avr->flash[byte_address] | (avr->flash[byte_address + 1] << 8));
+}
+
+/// True if a part listens to the I/O address (simavr raises its memory IRQs on reads too).
+bool has_listeners(const avr_t* avr, uint16_t address) {
+    const avr_irq_t* irq = avr->io[AVR_DATA_TO_IO(address)].irq;
+    if (irq == nullptr) return false;
+    for (int i = 0; i <= AVR_IOMEM_IRQ_ALL; ++i) {
+        if (irq[i].hook != nullptr) return true;
+    }
+    return false;
+}
+
+/// True if simavr's SREG arrays agree on the flags in `mask`.
+bool flags_equal(uint8_t mask, const uint8_t* a, const uint8_t* b) {
+    for (unsigned f = 0; f < 8; ++f) {
+        if (((mask >> f) & 1U) != 0 && (a[f] != 0) != (b[f] != 0)) return false;
+    }
+    return true;
+}
+
+/// A register's name for a refusal, from the MCU description where it has one.
+std::string io_name(const McuDescription& mcu, uint16_t a) {
+    for (const PortRegisters& p : mcu.ports) {
+        if (a == p.pin) return fmt::format("PIN{}", p.port);
+        if (a == p.ddr) return fmt::format("DDR{}", p.port);
+        if (a == p.port_register) return fmt::format("PORT{}", p.port);
+    }
+    for (const UsartDesc& u : mcu.usarts) {
+        if (a == u.udr) return fmt::format("UDR{}", u.index);
+        if (a == u.ucsra) return fmt::format("UCSR{}A", u.index);
+        if (a == u.ucsrb) return fmt::format("UCSR{}B", u.index);
+    }
+    for (const TimerDesc& t : mcu.timers) {
+        if (a == t.tcnt_low || (t.tcnt_high != 0 && a == t.tcnt_high)) return fmt::format("TCNT{}", t.index);
+        if (a == t.tccra) return fmt::format("TCCR{}A", t.index);
+        if (a == t.tccrb) return fmt::format("TCCR{}B", t.index);
+    }
+    if (a == mcu.eecr) return "EECR";
+    if (a == mcu.twcr) return "TWCR";
+    if (a == mcu.adc.adcsra) return "ADCSRA";
+    return fmt::format("I/O 0x{:02x}", a);
+}
+
+}  // namespace
+
+struct FastForward::Loop {
+    SkippedLoop info;
+    uint16_t sp = 0;
+    std::vector<uint32_t> pcs;
+    /// Per step: the bytes it accessed through a pointer register (LD/ST X,
+    /// Y, Z), checked again on the verification pass; other steps' addresses
+    /// follow from the path and SP.
+    std::vector<StepAccess> accesses;
+    std::vector<bool> through_pointer;
+    std::vector<uint16_t> carried;
+    uint8_t carried_flags = 0;  ///< SREG bits read before written, and written
+    uint32_t timers_read = 0;  ///< bit n: the pass reads timers_[n]'s TCNT or flags
+    LoopSpan span;
+};
+
+struct FastForward::Snapshot {
+    Cycles cycle = 0;
+    uint32_t pc = 0;
+    uint8_t sreg[8] = {};
+    int8_t interrupt_state = 0;
+};
+
+FastForward::FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable)
+    : avr_(avr), mcu_(mcu), replayable_(replayable), state_((mcu.flash_bytes + 1) / 2, kUnknown) {
+    for (avr_io_t* io : simavr_io_modules(avr, "timer")) timers_.push_back(io);
+    saved_data_.resize(static_cast<std::size_t>(avr->ramend) + 1);
+}
+
+FastForward::~FastForward() = default;
+
+CpuView FastForward::cpu() const {
+    CpuView v;
+    v.data = avr_->data;
+    v.sp = stack_pointer(avr_, mcu_);
+    v.sreg_address = mcu_.sreg;
+    v.pc_bytes = mcu_.pc_bytes;
+    return v;
+}
+
+bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
+    if (avr_->state != cpu_Running || halt_a || halt_b) return false;  // the run stops here
+    const uint32_t pc = avr_->pc;
+    if ((pc >> 1) >= state_.size()) return false;
+    const int32_t st = slot(pc);
+    if (st >= 0) return try_jump(loops_[static_cast<std::size_t>(st)]);
+    if (st < kUnknown) {
+        ++refused_[static_cast<std::size_t>(-2 - st)].visits;
+        return false;
+    }
+    const uint16_t sp = stack_pointer(avr_, mcu_);
+    bool seen = false;
+    for (unsigned i = 0; i < 8; ++i) seen = seen || (last_pc_[i] == pc && last_sp_[i] == sp);
+    last_pc_[last_next_] = pc;
+    last_sp_[last_next_] = sp;
+    last_next_ = (last_next_ + 1) % 8;
+    if (!seen || avr_->cycle < no_learning_before_) return false;
+    return learn(pc, halt_a, halt_b);
+}
+
+bool FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
+                              const bool& halt_a, const bool& halt_b) {
+    const Cycles start = avr_->cycle;
+    const uint16_t sp = stack_pointer(avr_, mcu_);
+    const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
+    steps.clear();
+    while (steps.size() < kMaxPassSteps) {
+        const uint32_t pc = avr_->pc;
+        if (!steps.empty() && pc == anchor && stack_pointer(avr_, mcu_) == sp) {
+            cycles = avr_->cycle - start;
+            return true;
+        }
+        steps.push_back({pc, stack_pointer(avr_, mcu_), step_access(flash_word(avr_, pc), flash_word(avr_, pc + 2), cpu())});
+        avr_->run_cycle_count = 1;
+        avr_run(avr_);
+        if (avr_->state != cpu_Running || halt_a || halt_b) return false;
+        if (avr_->pc < vectors_end || avr_->cycle - start > kMaxPassCycles) return false;  // an interrupt
+    }
+    return false;
+}
+
+bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b) {
+    const Cycles limit = avr_->run_cycle_limit;
+    avr_->run_cycle_limit = 1;
+    std::vector<RecordedStep> first;
+    std::vector<RecordedStep> second;
+    Cycles c1 = 0;
+    Cycles c2 = 0;
+    bool ok = record_pass(anchor, first, c1, halt_a, halt_b);
+    std::memcpy(saved_data_.data(), avr_->data, saved_data_.size());
+    uint8_t sreg_before[8];
+    std::memcpy(sreg_before, avr_->sreg, sizeof sreg_before);
+    ok = ok && record_pass(anchor, second, c2, halt_a, halt_b);
+    avr_->run_cycle_limit = limit;
+    no_learning_before_ = avr_->cycle + kLearningBackoff;
+    if (!ok) return true;
+    const bool same_path = c1 == c2 && first.size() == second.size() &&
+                           std::equal(first.begin(), first.end(), second.begin(),
+                                      [](const RecordedStep& a, const RecordedStep& b) { return a.pc == b.pc; });
+    if (!same_path) {
+        auto& tries = tries_[anchor];
+        if (++tries >= kMaxLearningTries) refuse(anchor, "its passes do not repeat one instruction path");
+        return true;
+    }
+    const PassAnalysis analysis = analyse_pass(second, 0x20, mcu_.sram_start, mcu_.spl);
+    Loop loop;
+    std::string why = analysis.refusal;
+    if (why.empty()) why = accept_io(analysis, loop.timers_read);
+    for (uint16_t a : analysis.carried) {
+        if (!why.empty()) break;
+        if (avr_->data[a] == saved_data_[a]) continue;
+        why = a < 32 ? fmt::format("changes r{} from pass to pass", a)
+                     : fmt::format("changes 0x{:04x} from pass to pass", a);
+    }
+    if (why.empty() && !flags_equal(analysis.carried_flags, sreg_before, avr_->sreg)) {
+        why = "changes an SREG flag from pass to pass";
+    }
+    if (!why.empty()) {
+        refuse(anchor, why);
+        return true;
+    }
+    loop.info.anchor = anchor;
+    loop.info.pass_cycles = c2;
+    loop.sp = stack_pointer(avr_, mcu_);
+    loop.carried = analysis.carried;
+    loop.carried_flags = analysis.carried_flags;
+    loop.info.pc_low = loop.info.pc_high = anchor;
+    loop.span.min_sp = loop.span.max_sp = loop.sp;
+    for (const RecordedStep& s : second) {
+        loop.span.min_sp = std::min(loop.span.min_sp, s.sp);
+        loop.span.max_sp = std::max(loop.span.max_sp, s.sp);
+        loop.pcs.push_back(s.pc);
+        loop.accesses.push_back(s.access);
+        const auto d = avr::decode_data_access(flash_word(avr_, s.pc), 0);
+        loop.through_pointer.push_back(d && d->pointer != avr::Pointer::kNone);
+        loop.info.pc_low = std::min(loop.info.pc_low, s.pc);
+        loop.info.pc_high = std::max(loop.info.pc_high, s.pc);
+    }
+    slot(anchor) = static_cast<int32_t>(loops_.size());
+    loops_.push_back(std::move(loop));
+    loops_.back().span.pcs = &loops_.back().pcs;  // (re-pointed after each growth of loops_)
+    for (Loop& l : loops_) l.span.pcs = &l.pcs;
+    return true;
+}
+
+std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
+    for (uint16_t a : analysis.io_reads) {
+        if (a == mcu_.spl || a == mcu_.sph) continue;
+        if (has_listeners(avr_, a)) return fmt::format("reads {}, which a part watches", io_name(mcu_, a));
+        bool timer = false;
+        for (std::size_t n = 0; n < timers_.size(); ++n) {
+            const auto* t = static_cast<const avr_timer_t*>(timers_[n]);
+            if (a == t->r_tcnt || (t->r_tcnth != 0 && a == t->r_tcnth) || a == t->overflow.raised.reg) {
+                timers_read |= 1U << n;
+                timer = true;
+            }
+        }
+        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
+        const bool pin = std::any_of(mcu_.ports.begin(), mcu_.ports.end(),
+                                     [a](const PortRegisters& p) { return p.pin == a; });
+        if (!timer && !pin && io.r.c != nullptr) {
+            return fmt::format("reads {}, a read with side effects in simavr", io_name(mcu_, a));
+        }
+    }
+    for (uint16_t a : analysis.io_writes) {
+        if (a == mcu_.spl || a == mcu_.sph) continue;
+        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
+        if (io.w.c != nullptr || io.irq != nullptr) return fmt::format("writes {}", io_name(mcu_, a));
+    }
+    return {};
+}
+
+void FastForward::refuse(uint32_t anchor, std::string reason) {
+    slot(anchor) = -2 - static_cast<int32_t>(refused_.size());
+    refused_.push_back(RefusedLoop{anchor, fmt::format("PC 0x{:04x}: {}", anchor, reason), 0});
+}
+
+bool FastForward::deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const {
+    const void* param = slot.param;
+    for (const ReplayableTimer& r : replayable_) {
+        if (r.fn == slot.timer && r.param == param) return r.may_replay(loop.span);
+    }
+    for (std::size_t n = 0; n < timers_.size(); ++n) {
+        if (timers_[n] != param) continue;
+        if ((loop.timers_read >> n) & 1U) return false;
+        auto* t = static_cast<avr_timer_t*>(timers_[n]);
+        if (avr_regbit_get(avr_, t->overflow.enable) != 0 || avr_regbit_get(avr_, t->icr.enable) != 0) return false;
+        for (const avr_timer_comp_t& c : t->comp) {
+            if (c.r_ocr == 0) continue;
+            if (avr_regbit_get(avr_, c.interrupt.enable) != 0) return false;
+            if (c.comp_cycles != 0 && avr_regbit_get(avr_, c.com) != 0) return false;  // drives its OC pin
+        }
+        return true;
+    }
+    return false;
+}
+
+Cycles FastForward::bound(const Loop& loop) const {
+    for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr; t = t->next) {
+        if (!deferrable(*t, loop)) return t->when;
+    }
+    return std::numeric_limits<Cycles>::max();
+}
+
+bool FastForward::verify_pass(const Loop& loop) {
+    for (std::size_t i = 0; i < loop.pcs.size(); ++i) {
+        const uint32_t pc = avr_->pc;
+        if (pc != loop.pcs[i]) return false;
+        if (!loop.through_pointer[i]) {
+            avr_->run_cycle_count = 1;
+            avr_run(avr_);
+            if (avr_->state != cpu_Running) return false;
+            continue;
+        }
+        const StepAccess a = step_access(flash_word(avr_, pc), flash_word(avr_, pc + 2), cpu());
+        const StepAccess& b = loop.accesses[i];
+        if (a.count != b.count || !std::equal(a.address.begin(), a.address.begin() + a.count, b.address.begin())) {
+            return false;
+        }
+        avr_->run_cycle_count = 1;
+        avr_run(avr_);
+        if (avr_->state != cpu_Running) return false;
+    }
+    return avr_->pc == loop.info.anchor && stack_pointer(avr_, mcu_) == loop.sp;
+}
+
+bool FastForward::carried_unchanged(const Loop& loop, const Snapshot& before) const {
+    for (uint16_t a : loop.carried) {
+        if (avr_->data[a] != saved_data_[a]) return false;
+    }
+    return flags_equal(loop.carried_flags, before.sreg, avr_->sreg);
+}
+
+bool FastForward::try_jump(Loop& loop) {
+    const Cycles now = avr_->cycle;
+    const Cycles pass = loop.info.pass_cycles;
+    if (now < no_jump_before_ || stack_pointer(avr_, mcu_) != loop.sp) return false;
+    if (avr_->interrupt_state != 0 || avr_has_pending_interrupts(avr_) != 0) return false;
+    const Cycles edge = bound(loop);
+    if (edge <= now + (kMinPassesPerJump + 2) * pass) return false;
+    const Cycles k = (edge - 1 - now) / pass - 1;  // the verification pass ends before the edge
+    const Cycles end = now + (k + 1) * pass;
+    // Hold back the flag-only timers due before the end; replayed after.
+    struct Held {
+        avr_cycle_timer_t fn;
+        void* param;
+        Cycles when;
+    };
+    std::vector<Held> held;
+    for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr && t->when <= end; t = t->next) {
+        held.push_back({t->timer, t->param, t->when});
+    }
+    for (const Held& h : held) avr_cycle_timer_cancel(avr_, h.fn, h.param);
+    Snapshot before;
+    before.cycle = now;
+    before.pc = avr_->pc;
+    std::memcpy(before.sreg, avr_->sreg, sizeof before.sreg);
+    before.interrupt_state = avr_->interrupt_state;
+    std::memcpy(saved_data_.data(), avr_->data, saved_data_.size());
+    const Cycles limit = avr_->run_cycle_limit;
+    avr_->run_cycle_limit = 1;
+    avr_->cycle = now + k * pass;
+    const bool ok = verify_pass(loop) && avr_->cycle == end && carried_unchanged(loop, before);
+    avr_->run_cycle_limit = limit;
+    if (!ok) {
+        std::memcpy(avr_->data, saved_data_.data(), saved_data_.size());
+        std::memcpy(avr_->sreg, before.sreg, sizeof before.sreg);
+        avr_->pc = before.pc;
+        avr_->cycle = before.cycle;
+        avr_->interrupt_state = before.interrupt_state;
+        ++loop.info.mismatches;
+        no_jump_before_ = edge;
+    } else {
+        ++loop.info.skips;
+        loop.info.cycles_skipped += k * pass;
+        cycles_skipped_ += k * pass;
+    }
+    // Registered again at their own cycles (a delta past now wraps to the
+    // same absolute cycle), in order; those already due run now, in order.
+    for (const Held& h : held) avr_cycle_timer_register(avr_, h.when - avr_->cycle, h.fn, h.param);
+    avr_cycle_timer_process(avr_);
+    return true;
+}
+
+FastForwardStats FastForward::stats() const {
+    FastForwardStats s;
+    s.cycles_skipped = cycles_skipped_;
+    for (const Loop& l : loops_) {
+        s.skips += l.info.skips;
+        s.mismatches += l.info.mismatches;
+        s.loops.push_back(l.info);
+        s.loops.back().path = l.pcs;
+    }
+    for (const RefusedLoop& r : refused_) {
+        if (r.visits > 0) s.refused.push_back(r);
+    }
+    std::stable_sort(s.refused.begin(), s.refused.end(),
+                     [](const RefusedLoop& a, const RefusedLoop& b) { return a.visits > b.visits; });
+    return s;
+}
+
+}  // namespace ddmr::hil

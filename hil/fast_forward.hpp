@@ -1,0 +1,137 @@
+#pragma once
+// FastForward: skips whole passes of a firmware's busy-wait loops exactly
+// (delay(), while (millis() < t), a poll of a flag an event sets), inside
+// AvrCore's stepping loop, so every front end gets it.
+//
+// Detect: at the end of each instruction batch, a PC seen twice with the
+// same SP is a candidate anchor. Two passes from it are stepped and
+// recorded (hil/loop_pass.hpp); they must follow the same instruction path
+// in the same cycles, touch only I/O whose reads have no side effects
+// (plain registers, TCNTn, PINx) and write no I/O but SREG, and leave every
+// loop-carried byte as it found it. Otherwise the anchor is refused, with
+// the reason.
+//
+// Jump: at an anchor, with no interrupt pending, the next cycle timer that
+// may change what the loop reads or be observed (a timer that raises an
+// interrupt, a UART/TWI/ADC/EEPROM completion, the plant's coupling step and
+// pin events, a run's target or stop) bounds the jump; timers that only set
+// the flag of a disabled interrupt (Timer1/Timer2 overflows in simavr 1.6),
+// of a timer the loop does not read, are held back and replayed in order
+// after it. The state is saved, the clock moves k passes on, and one pass
+// is stepped and checked against the learned path and carried bytes; on a
+// mismatch the state is restored and the window runs normally.
+//
+// Not used while instruction hooks or a step watch are installed (the
+// profilers, the race detector inside an ISR) or gdb serves the run: the
+// caller switches it off. Not thread-safe (one per AvrCore).
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "hil/cycle_time.hpp"
+#include "hil/loop_pass.hpp"
+
+struct avr_t;
+struct avr_cycle_timer_slot_t;
+
+namespace ddmr::hil {
+
+struct McuDescription;
+
+/// The passes a jump skips, as a cycle timer that asks to be replayed sees them.
+struct LoopSpan {
+    uint16_t min_sp = 0;  ///< the lowest SP before any instruction of a pass
+    uint16_t max_sp = 0;  ///< the highest
+    const std::vector<uint32_t>* pcs = nullptr;  ///< the PCs of a pass, in order
+};
+
+/// A cycle timer of a part that only observes (a sampler): it may run after
+/// a jump, at its own cycles, in order, instead of bounding the jump, when
+/// `may_replay` says that none of its calls over such passes would change
+/// anything (e.g. a stack sampler, if the passes' SP stays above its limit).
+struct ReplayableTimer {
+    uint64_t (*fn)(avr_t*, uint64_t, void*) = nullptr;
+    void* param = nullptr;
+    std::function<bool(const LoopSpan&)> may_replay;
+};
+
+/// One learned loop (an anchor PC and its pass).
+struct SkippedLoop {
+    uint32_t anchor = 0;             ///< flash byte address
+    uint32_t pc_low = 0, pc_high = 0;  ///< the pass's PC range [low, high]
+    std::vector<uint32_t> path;      ///< the pass's PCs, in order
+    Cycles pass_cycles = 0;
+    uint64_t skips = 0;              ///< jumps taken
+    uint64_t cycles_skipped = 0;
+    uint64_t mismatches = 0;         ///< verification passes that left the path
+};
+
+/// An anchor that was refused, with the reason and how often the run came by it.
+struct RefusedLoop {
+    uint32_t anchor = 0;
+    std::string reason;
+    uint64_t visits = 0;
+};
+
+struct FastForwardStats {
+    uint64_t cycles_skipped = 0;
+    uint64_t skips = 0;
+    uint64_t mismatches = 0;
+    std::vector<SkippedLoop> loops;
+    std::vector<RefusedLoop> refused;
+};
+
+class FastForward {
+public:
+    /// `replayable`: the parts' observing timers (owned by the caller, kept up to date).
+    FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable);
+    ~FastForward();
+    FastForward(const FastForward&) = delete;
+    FastForward& operator=(const FastForward&) = delete;
+
+    /// Called between instruction batches of a free run. May step
+    /// instructions (learning) or jump; stops stepping as soon as `halt`
+    /// turns true (the run's target reached, a stop requested) or the CPU
+    /// leaves the running state. Returns true if it ran anything.
+    bool after_batch(const bool& halt_a, const bool& halt_b);
+
+    [[nodiscard]] FastForwardStats stats() const;
+
+private:
+    struct Loop;
+    struct Snapshot;
+    enum : int32_t { kUnknown = -1 };
+    bool learn(uint32_t anchor, const bool& halt_a, const bool& halt_b);
+    bool record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles, const bool& halt_a,
+                     const bool& halt_b);
+    std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
+    bool try_jump(Loop& loop);
+    bool verify_pass(const Loop& loop);
+    bool carried_unchanged(const Loop& loop, const Snapshot& before) const;
+    Cycles bound(const Loop& loop) const;
+    bool deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const;
+    void refuse(uint32_t anchor, std::string reason);
+    int32_t& slot(uint32_t pc) { return state_[pc >> 1]; }
+    CpuView cpu() const;
+
+    avr_t* avr_;
+    const McuDescription& mcu_;
+    const std::vector<ReplayableTimer>& replayable_;
+    std::vector<int32_t> state_;  ///< per flash word: kUnknown, loop index, or -2 - refusal index
+    std::vector<Loop> loops_;
+    std::vector<RefusedLoop> refused_;
+    std::vector<void*> timers_;  ///< simavr's timer modules (their cycle timers' parameter)
+    uint32_t last_pc_[8] = {};
+    uint16_t last_sp_[8] = {};
+    unsigned last_next_ = 0;
+    Cycles no_learning_before_ = 0;
+    Cycles no_jump_before_ = 0;
+    uint64_t cycles_skipped_ = 0;
+    std::vector<uint8_t> saved_data_;
+    std::unordered_map<uint32_t, int> tries_;  ///< learning attempts whose two passes differed
+};
+
+}  // namespace ddmr::hil

@@ -1,0 +1,128 @@
+/* Loops that fast-forward (hil/fast_forward.hpp) must skip exactly or
+ * leave alone, for tests/tools/fast_forward_test.cpp: each mode's output
+ * must be byte for byte the same with and without --no-fast-forward. No
+ * Arduino core: Timer0 runs as the core's init() sets it (fast PWM, clk/64,
+ * overflow interrupt counting overflows: 1024 cycles each), and us() reads
+ * it as the core's micros() does (TCNT0, TOV0 with interrupts off).
+ *
+ *   FF_SRAM_COUNTER: counts passes of a 5 ms wait in SRAM (never skipped:
+ *     "changes ... from pass to pass"), then waits 3 ms in a loop that
+ *     writes nothing (skipped).
+ *   FF_ISR_FLAG: waits for a flag that Timer1's compare-match ISR sets
+ *     every 10 ms (CTC, OCR1A = 2499, clk/64): a loop that only reads.
+ *   FF_PIN_POLL: both motors of the default board at full drive (as
+ *     drive_fixture.c); polls PIND bit 2 (encoder 1) for 20 edges.
+ *   FF_UDR_POLL: polls UCSR0A's RXC0 for bytes from the host and echoes
+ *     each with its time.
+ * Each prints one line per event, with us() at it, then "done". */
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <stdint.h>
+
+#include "usart0.h"
+
+static volatile uint32_t overflows;
+ISR(TIMER0_OVF_vect) { ++overflows; }
+
+static uint32_t us(void) {
+    const uint8_t sreg = SREG;
+    cli();
+    uint32_t m = overflows;
+    const uint8_t t = TCNT0;
+    if ((TIFR0 & _BV(TOV0)) && t < 255) ++m;
+    SREG = sreg;
+    return ((m << 8) + t) * 4U;
+}
+
+static void wait_us(uint32_t d) {
+    const uint32_t start = us();
+    while (us() - start < d) {
+    }
+}
+
+static void put_u32(uint32_t v) {
+    char buf[11];
+    char* p = buf + sizeof buf - 1;
+    *p = '\0';
+    do {
+        *--p = (char)('0' + v % 10U);
+        v /= 10U;
+    } while (v != 0U);
+    usart0_put(p);
+}
+
+static void event(const char* what, uint32_t value) {
+    usart0_put(what);
+    usart0_put(" ");
+    put_u32(value);
+    usart0_put(" at ");
+    put_u32(us());
+    usart0_put("\n");
+}
+
+#if defined(FF_SRAM_COUNTER)
+static volatile uint32_t passes;
+static void run(void) {
+    for (uint8_t i = 0; i < 5; ++i) {
+        passes = 0;
+        const uint32_t start = us();
+        while (us() - start < 5000U) ++passes;
+        event("passes", passes);
+        wait_us(3000U);
+    }
+}
+#elif defined(FF_ISR_FLAG)
+static volatile uint8_t flag;
+static volatile uint16_t ticks;
+ISR(TIMER1_COMPA_vect) {
+    flag = 1;
+    ++ticks;
+}
+static void run(void) {
+    OCR1A = 2499;
+    TCCR1B = _BV(WGM12) | _BV(CS11) | _BV(CS10); /* CTC, clk/64: 10 ms */
+    TIMSK1 = _BV(OCIE1A);
+    for (uint8_t i = 0; i < 8; ++i) {
+        while (!flag) {
+        }
+        flag = 0;
+        event("tick", ticks);
+    }
+}
+#elif defined(FF_PIN_POLL)
+static void run(void) {
+    const uint8_t drive = _BV(PB2) | _BV(PB3) | _BV(PB4) | _BV(PB5); /* D10..D13 */
+    PORTB |= drive;
+    DDRB |= drive;
+    for (uint8_t i = 0; i < 20; ++i) {
+        const uint8_t level = PIND & _BV(PD2);
+        while ((PIND & _BV(PD2)) == level) {
+        }
+        event("edge", i);
+    }
+}
+#elif defined(FF_UDR_POLL)
+static void run(void) {
+    UCSR0B |= _BV(RXEN0);
+    for (uint8_t i = 0; i < 3; ++i) {
+        while (!(UCSR0A & _BV(RXC0))) {
+        }
+        event("byte", UDR0);
+    }
+}
+#else
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL"
+#endif
+
+int main(void) {
+    TCCR0A = _BV(WGM01) | _BV(WGM00);
+    TCCR0B = _BV(CS01) | _BV(CS00);
+    TIMSK0 = _BV(TOIE0);
+    usart0_begin_9600();
+    sei();
+    run();
+    usart0_put("done\n");
+    for (;;) {
+        wait_us(1000U);
+    }
+}

@@ -1,0 +1,128 @@
+// FastForward: skipped passes leave the machine exactly as executing them
+// does. Two sessions of one firmware, one with fast-forward and one
+// without, are stopped at the same cycles; their registers, I/O and SRAM
+// (simavr's data space), SREG, PC and the bytes sent must be equal at each.
+#include "hil/fast_forward.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sim_avr.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "hil/session.hpp"
+#include "support/loopback_tcp.hpp"
+#include "support/test_paths.hpp"
+#include "support/uno_board.hpp"
+
+namespace ddmr::hil {
+namespace {
+
+struct Bytes : SessionObserver {
+    std::string text;
+    void on_host_byte(char c, Cycles /*cycle*/) override { text.push_back(c); }
+};
+
+struct Twin {
+    explicit Twin(const ElfImage& elf, bool fast_forward) : session(elf, RigConfig{}, options(fast_forward)) {
+        session.attach(bytes);
+    }
+    static SessionOptions options(bool fast_forward) {
+        SessionOptions o;
+        o.time_limit = s_to_cycles(8.0, test::kUnoClockHz);
+        o.fast_forward = fast_forward;
+        return o;
+    }
+    Session session;
+    Bytes bytes;
+};
+
+/// Runs `elf` both ways to each of `stops` and compares the whole machine.
+FastForwardStats expect_identical_states(const std::string& fixture, const std::vector<Cycles>& stops) {
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / (fixture + ".elf"));
+    Twin on(elf, true);
+    Twin off(elf, false);
+    for (Cycles stop : stops) {
+        EXPECT_EQ(on.session.run(stop), SessionStop::kReachedCycle);
+        EXPECT_EQ(off.session.run(stop), SessionStop::kReachedCycle);
+        avr_t* a = on.session.core().raw();
+        avr_t* b = off.session.core().raw();
+        EXPECT_EQ(a->cycle, b->cycle) << fixture << " at " << stop;
+        EXPECT_EQ(a->pc, b->pc) << fixture << " at " << stop;
+        EXPECT_EQ(std::memcmp(a->sreg, b->sreg, sizeof a->sreg), 0) << fixture << " at " << stop;
+        const std::size_t n = static_cast<std::size_t>(a->ramend) + 1;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (a->data[i] != b->data[i]) {
+                ADD_FAILURE() << fixture << ": data 0x" << std::hex << i << " differs at cycle " << std::dec << stop
+                              << ": " << int(a->data[i]) << " with fast-forward, " << int(b->data[i]) << " without";
+                break;
+            }
+        }
+        EXPECT_EQ(on.bytes.text, off.bytes.text) << fixture << " at " << stop;
+    }
+    EXPECT_EQ(off.session.core().fast_forward(), nullptr);
+    return on.session.core().fast_forward()->stats();
+}
+
+std::vector<Cycles> every(Cycles step, Cycles end) {
+    std::vector<Cycles> out;
+    for (Cycles c = step; c <= end; c += step) out.push_back(c);
+    return out;
+}
+
+TEST(FastForward, SkipsAWaitButNotACounterInSram) {
+    // ff_fixture.c, FF_SRAM_COUNTER: `while (us() - start < 5000) ++passes;`
+    // then wait_us(3000): the first writes SRAM each pass, the second nothing.
+    const FastForwardStats s = expect_identical_states("ff_sram_counter", every(97'003, 2'400'000));
+    EXPECT_GT(s.cycles_skipped, 0U);
+    bool counter_refused = false;
+    for (const RefusedLoop& r : s.refused) counter_refused |= r.reason.find("from pass to pass") != std::string::npos;
+    EXPECT_TRUE(counter_refused);
+}
+
+TEST(FastForward, WaitsForAnIsrFlagExactly) {
+    // FF_ISR_FLAG: `while (!flag) {}`, flag set by Timer1's compare ISR every 10 ms.
+    const FastForwardStats s = expect_identical_states("ff_isr_flag", every(151'007, 3'200'000));
+    EXPECT_GT(s.cycles_skipped, 0U);
+}
+
+TEST(FastForward, PollsAPinThePlantDrivesExactly) {
+    // FF_PIN_POLL: `while ((PIND & _BV(PD2)) == level) {}`, the encoder's edges from the plant.
+    expect_identical_states("ff_pin_poll", every(123'457, 3'200'000));
+}
+
+TEST(FastForward, TheReferenceFirmwareMatchesItsCaseOneRun) {
+    // The thesis firmware's boot (delay(5000)) and its first second of case 1.
+    const ElfImage elf = ElfImage::read(test::firmware_elf());
+    Twin on(elf, true);
+    Twin off(elf, false);
+    for (Twin* r : {&on, &off}) {
+        ASSERT_EQ(r->session.run_to_first_return_from(elf.require("delay")), SessionStop::kCondition);
+    }
+    EXPECT_EQ(on.session.cycle(), off.session.cycle());  // the boot's end, found by sampling, is the same
+    for (Twin* r : {&on, &off}) {
+        r->session.send("1");
+        EXPECT_EQ(r->session.run(r->session.cycle() + s_to_cycles(1.0, test::kUnoClockHz)), SessionStop::kReachedCycle);
+    }
+    EXPECT_EQ(on.bytes.text, off.bytes.text);
+    EXPECT_EQ(std::memcmp(on.session.core().raw()->data, off.session.core().raw()->data,
+                          static_cast<std::size_t>(on.session.core().raw()->ramend) + 1),
+              0);
+    const FastForwardStats s = on.session.core().fast_forward()->stats();
+    // delay() dominates the boot: most of its 5 s are skipped.
+    EXPECT_GT(static_cast<double>(s.cycles_skipped) / static_cast<double>(on.session.cycle()), 0.4);
+}
+
+TEST(FastForward, GdbTurnsItOff) {
+    SessionOptions o;
+    o.time_limit = 1000;
+    o.gdb = GdbServerConfig{test::free_loopback_port(), 1.0};
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / "ff_isr_flag.elf");
+    Session session(elf, RigConfig{}, o);
+    EXPECT_EQ(session.core().fast_forward(), nullptr);
+}
+
+}  // namespace
+}  // namespace ddmr::hil
