@@ -82,12 +82,11 @@ AdcInput::AdcInput(AvrCore& core, const AdcSupply& supply) : core_(core), supply
             avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_ADC_GETIRQ), ADC_IRQ_ADC0 + n);
     }
     trigger_ = avr_io_getirq(avr, static_cast<uint32_t>(AVR_IOCTL_ADC_GETIRQ), ADC_IRQ_OUT_TRIGGER);
-    adcsra_ = avr_iomem_getirq(avr, core_.mcu().adc.adcsra, nullptr, AVR_IOMEM_IRQ_ALL);
-    if (trigger_ == nullptr || adcsra_ == nullptr || inputs_[0] == nullptr) {
+    if (trigger_ == nullptr || inputs_[0] == nullptr) {
         throw std::runtime_error(std::string("AdcInput: simavr's ") + core_.mcu().label + " core has no ADC IRQs");
     }
     avr_irq_register_notify(trigger_, &AdcInput::on_trigger, this);
-    avr_irq_register_notify(adcsra_, &AdcInput::on_adcsra, this);
+    adcsra_ = core_.watch_io(core_.mcu().adc.adcsra, &AdcInput::on_adcsra, this, AvrCore::IoReads::kMatter);
     aden_ = bit_set(core_.data(core_.mcu().adc.adcsra), kAden);
     if (core_.mcu().adc.channels > kSimavrChannels) claim_high_channels();
     samples_.reserve(kRecordedSamples);
@@ -103,7 +102,7 @@ AdcInput::~AdcInput() {
     core_.remove_reset_listener(this);
     avr_cycle_timer_cancel(core_.raw(), &AdcInput::on_sample, this);
     avr_irq_unregister_notify(trigger_, &AdcInput::on_trigger, this);
-    avr_irq_unregister_notify(adcsra_, &AdcInput::on_adcsra, this);
+    core_.unwatch_io(core_.mcu().adc.adcsra, &AdcInput::on_adcsra, this, AvrCore::IoReads::kMatter);
 }
 
 void AdcInput::claim_high_channels() {

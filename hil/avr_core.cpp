@@ -8,6 +8,7 @@
 #include <sim_avr.h>
 #include <sim_cycle_timers.h>
 #include <sim_elf.h>
+#include <sim_io.h>
 #include <sim_irq.h>
 
 #include <fmt/format.h>
@@ -313,8 +314,27 @@ void AvrCore::set_fast_forward(bool on) {
     if (!on) {
         fast_forward_.reset();
     } else if (!fast_forward_) {
-        fast_forward_ = std::make_unique<FastForward>(avr_.get(), mcu(), replayable_);
+        fast_forward_ = std::make_unique<FastForward>(avr_.get(), mcu(), replayable_, io_watchers_);
     }
+}
+
+avr_irq_t* AvrCore::watch_io(uint16_t address, void (*notify)(avr_irq_t*, uint32_t, void*), void* param,
+                             IoReads reads) {
+    avr_irq_t* irq = avr_iomem_getirq(avr_.get(), address, nullptr, AVR_IOMEM_IRQ_ALL);
+    if (irq == nullptr) throw std::runtime_error(fmt::format("simavr has no IRQ for I/O register 0x{:02x}", address));
+    avr_irq_register_notify(irq, notify, param);
+    IoWatchers& w = io_watchers_[address];
+    ++w.count;
+    if (reads == IoReads::kMatter) ++w.reads_matter;
+    return irq;
+}
+
+void AvrCore::unwatch_io(uint16_t address, void (*notify)(avr_irq_t*, uint32_t, void*), void* param, IoReads reads) {
+    avr_irq_t* irq = avr_iomem_getirq(avr_.get(), address, nullptr, AVR_IOMEM_IRQ_ALL);
+    if (irq != nullptr) avr_irq_unregister_notify(irq, notify, param);
+    IoWatchers& w = io_watchers_[address];
+    --w.count;
+    if (reads == IoReads::kMatter) --w.reads_matter;
 }
 
 void AvrCore::forget_replay(const void* param) {

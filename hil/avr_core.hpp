@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include "hil/board_description.hpp"
@@ -173,6 +174,19 @@ public:
         replayable_.push_back(std::move(timer));
     }
     void forget_replay(const void* param);
+    /// How a part's watch of an I/O register takes the reads simavr also
+    /// notifies: kIgnored if a notification of the register's unchanged
+    /// value changes nothing in the part (then fast-forward may skip loops
+    /// that poll the register); kMatter otherwise.
+    enum class IoReads { kMatter, kIgnored };
+    /// simavr's memory IRQ of the I/O register at data address `address`
+    /// (raised on every write and read), with `notify(param)` registered on
+    /// it; parts watch registers only through this. Throws std::runtime_error
+    /// if simavr has no IRQ for the address.
+    struct avr_irq_t* watch_io(uint16_t address, void (*notify)(struct avr_irq_t*, uint32_t, void*), void* param,
+                               IoReads reads);
+    /// Withdraws a watch_io registration.
+    void unwatch_io(uint16_t address, void (*notify)(struct avr_irq_t*, uint32_t, void*), void* param, IoReads reads);
     /// The fast-forward engine, or nullptr while it is off.
     const FastForward* fast_forward() const { return fast_forward_.get(); }
 
@@ -204,6 +218,7 @@ private:
     std::unique_ptr<avr_t, AvrDeleter> avr_;
     std::unique_ptr<FastForward> fast_forward_;
     std::vector<ReplayableTimer> replayable_;
+    std::unordered_map<uint16_t, IoWatchers> io_watchers_;
     bool stop_requested_ = false;
     /// A callback and who installed it (instruction hooks, reset listeners).
     struct OwnedCallback {

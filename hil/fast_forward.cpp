@@ -39,7 +39,7 @@ uint16_t flash_word(const avr_t* avr, uint32_t byte_address) {
     return static_cast<uint16_t>(avr->flash[byte_address] | (avr->flash[byte_address + 1] << 8));
 }
 
-/// True if a part listens to the I/O address (simavr raises its memory IRQs on reads too).
+/// True if something listens to the I/O address's memory IRQs (raised on reads too).
 bool has_listeners(const avr_t* avr, uint16_t address) {
     const avr_irq_t* irq = avr->io[AVR_DATA_TO_IO(address)].irq;
     if (irq == nullptr) return false;
@@ -47,6 +47,15 @@ bool has_listeners(const avr_t* avr, uint16_t address) {
         if (irq[i].hook != nullptr) return true;
     }
     return false;
+}
+
+/// True if a read of the address is seen by a part: a listener that did not
+/// declare itself through AvrCore::watch_io, or one whose state a read's
+/// notification can change.
+bool read_observed(const avr_t* avr, const std::unordered_map<uint16_t, IoWatchers>& watchers, uint16_t address) {
+    if (!has_listeners(avr, address)) return false;
+    const auto it = watchers.find(address);
+    return it == watchers.end() || it->second.reads_matter > 0;
 }
 
 /// True if simavr's SREG arrays agree on the flags in `mask`.
@@ -104,8 +113,13 @@ struct FastForward::Snapshot {
     int8_t interrupt_state = 0;
 };
 
-FastForward::FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable)
-    : avr_(avr), mcu_(mcu), replayable_(replayable), state_((mcu.flash_bytes + 1) / 2, kUnknown) {
+FastForward::FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable,
+                         const std::unordered_map<uint16_t, IoWatchers>& watchers)
+    : avr_(avr),
+      mcu_(mcu),
+      replayable_(replayable),
+      watchers_(watchers),
+      state_((mcu.flash_bytes + 1) / 2, kUnknown) {
     for (avr_io_t* io : simavr_io_modules(avr, "timer")) timers_.push_back(io);
     saved_data_.resize(static_cast<std::size_t>(avr->ramend) + 1);
 }
@@ -229,7 +243,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
 std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
     for (uint16_t a : analysis.io_reads) {
         if (a == mcu_.spl || a == mcu_.sph) continue;
-        if (has_listeners(avr_, a)) return fmt::format("reads {}, which a part watches", io_name(mcu_, a));
+        if (read_observed(avr_, watchers_, a)) return fmt::format("reads {}, which a part watches", io_name(mcu_, a));
         bool timer = false;
         for (std::size_t n = 0; n < timers_.size(); ++n) {
             const auto* t = static_cast<const avr_timer_t*>(timers_[n]);

@@ -41,6 +41,13 @@ namespace ddmr::hil {
 
 struct McuDescription;
 
+/// The parts watching one I/O register through simavr's memory IRQ, which
+/// simavr raises on reads as on writes (AvrCore::watch_io).
+struct IoWatchers {
+    int count = 0;          ///< parts watching it
+    int reads_matter = 0;   ///< those for which a read's notification changes something
+};
+
 /// The passes a jump skips, as a cycle timer that asks to be replayed sees them.
 struct LoopSpan {
     uint16_t min_sp = 0;  ///< the lowest SP before any instruction of a pass
@@ -87,7 +94,9 @@ struct FastForwardStats {
 class FastForward {
 public:
     /// `replayable`: the parts' observing timers (owned by the caller, kept up to date).
-    FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable);
+    /// `watchers`: the parts' I/O watches by data address (owned by the caller).
+    FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable,
+                const std::unordered_map<uint16_t, IoWatchers>& watchers);
     ~FastForward();
     FastForward(const FastForward&) = delete;
     FastForward& operator=(const FastForward&) = delete;
@@ -120,6 +129,7 @@ private:
     avr_t* avr_;
     const McuDescription& mcu_;
     const std::vector<ReplayableTimer>& replayable_;
+    const std::unordered_map<uint16_t, IoWatchers>& watchers_;
     std::vector<int32_t> state_;  ///< per flash word: kUnknown, loop index, or -2 - refusal index
     std::vector<Loop> loops_;
     std::vector<RefusedLoop> refused_;

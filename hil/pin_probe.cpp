@@ -44,12 +44,9 @@ PinProbe::PinProbe(AvrCore& core, int pin) : core_(core) {
     }
     info_ = *info;
     const uint16_t registers[] = {info_.ddr_register, info_.port_register, core.mcu().mcucr};
-    for (std::size_t i = 0; i < irqs_.size(); ++i) {
-        irqs_[i] = avr_iomem_getirq(core_.raw(), registers[i], nullptr, AVR_IOMEM_IRQ_ALL);
-        if (irqs_[i] == nullptr) {
-            throw std::runtime_error("PinProbe: simavr gave no IRQ for register " + std::to_string(registers[i]));
-        }
-        avr_irq_register_notify(irqs_[i], &PinProbe::on_register, this);
+    for (std::size_t i = 0; i < addresses_.size(); ++i) {
+        core_.watch_io(registers[i], &PinProbe::on_register, this, AvrCore::IoReads::kMatter);
+        addresses_[i] = registers[i];
     }
     last_ = state();
     // avr_reset clears DDRx, PORTx and MCUCR without a write notification.
@@ -58,7 +55,7 @@ PinProbe::PinProbe(AvrCore& core, int pin) : core_(core) {
 
 PinProbe::~PinProbe() {
     core_.remove_reset_listener(this);
-    for (avr_irq_t* irq : irqs_) avr_irq_unregister_notify(irq, &PinProbe::on_register, this);
+    for (uint16_t a : addresses_) core_.unwatch_io(a, &PinProbe::on_register, this, AvrCore::IoReads::kMatter);
 }
 
 PinState PinProbe::state() const {

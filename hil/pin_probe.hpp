@@ -84,7 +84,7 @@ private:
 
     AvrCore& core_;
     PinInfo info_{};
-    std::array<avr_irq_t*, 3> irqs_{};  ///< DDRx, PORTx, MCUCR
+    std::array<uint16_t, 3> addresses_{};  ///< DDRx, PORTx, MCUCR (data addresses), watched
     PinState last_{};
     Listener listener_;
     uint64_t changes_ = 0;

@@ -102,9 +102,7 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
 PinWaveforms::~PinWaveforms() { core_.remove_reset_listener(this); }
 
 void PinWaveforms::watch(uint16_t address, Hook* hook) {
-    avr_irq_t* irq = avr_iomem_getirq(core_.raw(), address, nullptr, AVR_IOMEM_IRQ_ALL);
-    if (irq == nullptr) throw std::runtime_error("simavr gave no IRQ for register " + std::to_string(address));
-    avr_irq_register_notify(irq, &PinWaveforms::on_register, hook);
+    core_.watch_io(address, &PinWaveforms::on_register, hook, AvrCore::IoReads::kMatter);
 }
 
 void PinWaveforms::on_register(avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {

@@ -66,8 +66,10 @@ UartLink::UartLink(AvrCore& core, const UsartDesc& usart, UartTiming timing) : c
     avr_irq_register_notify(irqs + UART_IRQ_OUT_XOFF, &UartLink::on_xoff, this);
     if (timing == UartTiming::kChip) {
         for (uint16_t addr : {usart_.ucsra, usart_.ucsrb, usart_.ucsrc, usart_.ubrrl, usart_.ubrrh}) {
-            avr_irq_t* w = avr_iomem_getirq(avr, addr, nullptr, AVR_IOMEM_IRQ_ALL);
-            avr_irq_register_notify(w, &UartLink::on_frame_register, this);
+            // A read changes nothing (the frame time is recomputed from the
+            // same registers); declared kMatter until the skips around UART
+            // events are proven exact (docs/fast-forward.md).
+            core_.watch_io(addr, &UartLink::on_frame_register, this, AvrCore::IoReads::kMatter);
         }
     }
     // A reset disables the USART: wait for the firmware's next XON (its

@@ -145,11 +145,9 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
     for (const PinTrace& t : driver_pin_) {
         if (t.timer_capable) continue;  // drawn as the plant is driven (step listener)
         const uint16_t port = board_pin(desc, t.pin)->port_register;
-        avr_irq_t* irq = avr_iomem_getirq(avr, port, nullptr, AVR_IOMEM_IRQ_ALL);
-        if (irq == nullptr) throw std::runtime_error("VcdRecorder: simavr gave no IRQ for register " + std::to_string(port));
-        if (std::find(port_irqs_.begin(), port_irqs_.end(), irq) != port_irqs_.end()) continue;
-        port_irqs_.push_back(irq);
-        avr_irq_register_notify(irq, &VcdRecorder::on_port_write, this);
+        if (std::find(port_addresses_.begin(), port_addresses_.end(), port) != port_addresses_.end()) continue;
+        port_addresses_.push_back(port);
+        rig_.core().watch_io(port, &VcdRecorder::on_port_write, this, AvrCore::IoReads::kMatter);
     }
     rig_.encoders().set_edge_listener([this](int pin, Cycles cycle, bool level) {
         for (PinTrace& t : encoder_) {
@@ -192,7 +190,7 @@ VcdRecorder::~VcdRecorder() {
     for (PartPinHook& h : part_pins_) avr_irq_unregister_notify(h.irq, &VcdRecorder::on_part_pin, &h);
     rig_.coupler().set_step_listener(nullptr);
     rig_.encoders().set_edge_listener(nullptr);
-    for (avr_irq_t* irq : port_irqs_) avr_irq_unregister_notify(irq, &VcdRecorder::on_port_write, this);
+    for (uint16_t a : port_addresses_) rig_.core().unwatch_io(a, &VcdRecorder::on_port_write, this, AvrCore::IoReads::kMatter);
     avr_irq_unregister_notify(rx_irq_, &VcdRecorder::on_rx, this);
     avr_irq_unregister_notify(tx_irq_, &VcdRecorder::on_tx, this);
     for (IsrHook& h : isr_) avr_irq_unregister_notify(h.running, &VcdRecorder::on_isr, &h);

@@ -117,7 +117,7 @@ private:
     };
     std::vector<PinTrace> encoder_;     ///< sized once: signals are declared through pointers into it
     std::vector<PinTrace> driver_pin_;  ///< likewise
-    std::vector<avr_irq_t*> port_irqs_;
+    std::vector<uint16_t> port_addresses_;  ///< the PORTx registers watched
     /// Each part output's signal and its listener (removed by the destructor).
     struct PartTrace {
         const LogicSignal* signal = nullptr;

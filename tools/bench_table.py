@@ -158,6 +158,14 @@ def main():
         c, w = python["case1"], python["sweep"]
         goal("case 1 driven from Python / ddmr-hil run (wall)", c["ratio"], "<= 1.05", c["ratio"] <= 1.05)
         goal(f"Dask sweep of {w['plants']} plants: 1 worker / 2 workers", w["speedup"], ">= 1.7", w["speedup"] >= 1.7)
+    # Issue 35: tools/bench_fast_forward.py (plain JSON too).
+    ff = json.loads((bench / "fast_forward.json").read_text()) if (bench / "fast_forward.json").exists() else None
+    if ff:
+        c, s = ff["case1"], ff["suite"]
+        goal("case 1: --no-fast-forward / fast-forward (wall)", c["ratio"], ">= 3", c["ratio"] >= 3.0)
+        goal("case 1: share of cycles skipped", c["skipped_share"], ">= 0.70", c["skipped_share"] >= 0.70)
+        goal(f"{s['scenarios']} scenarios: --no-fast-forward / fast-forward (wall)", s["ratio"], ">= 2.5",
+             s["ratio"] >= 2.5)
     mc = json.loads((bench / "monte_carlo.json").read_text()) if (bench / "monte_carlo.json").exists() else None
     if mc:
         goal(f"Monte Carlo: fraction of {mc['plants']} plants within {mc['miss_limit_m'] * 100:.0f} cm of the goal",

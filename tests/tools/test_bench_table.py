@@ -86,3 +86,22 @@ def test_the_python_api_goals_come_from_bench_api_json(tmp_path):
     speedup = [line for line in lines if "Dask sweep of 16 plants" in line]
     assert len(case1) == 1 and case1[0].startswith("MISS") and "1.080" in case1[0], lines
     assert len(speedup) == 1 and speedup[0].startswith("met ") and "1.770" in speedup[0], lines
+
+
+def test_the_fast_forward_goals_come_from_bench_fast_forward_json(tmp_path):
+    """fast_forward.json as tools/bench_fast_forward.py writes it: case 1's
+    ratio and skipped share against 3 and 0.70, the suite's ratio against 2.5."""
+    (tmp_path / "fast_forward.json").write_text(json.dumps({
+        "case1": {"on_median_s": 0.7, "off_median_s": 2.3, "ratio": 3.29, "rounds": 5, "skipped_share": 0.576,
+                  "skips": 223126, "goal_ratio_min": 3.0, "goal_skipped_min": 0.70},
+        "suite": {"on_median_s": 17.7, "off_median_s": 20.6, "ratio": 1.16, "rounds": 2, "scenarios": 22,
+                  "goal_ratio_min": 2.5},
+    }))
+    done = subprocess.run([sys.executable, str(TABLE), str(tmp_path)], capture_output=True, text=True, check=True)
+    lines = done.stdout.splitlines()
+    ratio = [line for line in lines if "case 1: --no-fast-forward / fast-forward" in line]
+    share = [line for line in lines if "case 1: share of cycles skipped" in line]
+    suite = [line for line in lines if "22 scenarios: --no-fast-forward / fast-forward" in line]
+    assert len(ratio) == 1 and ratio[0].startswith("met ") and "3.290" in ratio[0], lines
+    assert len(share) == 1 and share[0].startswith("MISS") and "0.576" in share[0], lines
+    assert len(suite) == 1 and suite[0].startswith("MISS") and "1.160" in suite[0], lines
