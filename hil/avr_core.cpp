@@ -314,7 +314,7 @@ void AvrCore::set_fast_forward(bool on) {
     if (!on) {
         fast_forward_.reset();
     } else if (!fast_forward_) {
-        fast_forward_ = std::make_unique<FastForward>(avr_.get(), mcu(), replayable_, io_watchers_);
+        fast_forward_ = std::make_unique<FastForward>(*this, replayable_, io_watchers_);
     }
 }
 
@@ -355,6 +355,11 @@ void AvrCore::set_step_watch(StepWatch watch, void* context) {
     } else if (!stepping_) {
         avr->run_cycle_limit = free_run_limit();
     }
+}
+
+void AvrCore::request_stop() {
+    stop_requested_ = true;
+    avr_->run_cycle_count = 1;  // simavr's batch ends after the instruction in progress
 }
 
 void AvrCore::stop_after(Cycles delay) {

@@ -122,8 +122,12 @@ public:
     void set_step_watch(StepWatch watch, void* context);
 
     /// Asks the running run_until to return after the current instruction
-    /// batch. Safe to call from IRQ and cycle-timer callbacks.
-    void request_stop() { stop_requested_ = true; }
+    /// (the one whose I/O raised the callback; from a cycle-timer callback,
+    /// before the next one), wherever simavr's batch of instructions would
+    /// have ended, so a stop's cycle does not depend on how the run was
+    /// batched (fast-forward, run_cycle_limit). Safe to call from IRQ and
+    /// cycle-timer callbacks.
+    void request_stop();
     /// Requests a stop exactly `delay` cycles from now (a cycle timer).
     void stop_after(Cycles delay);
     bool stop_requested() const { return stop_requested_; }
@@ -189,6 +193,10 @@ public:
     void unwatch_io(uint16_t address, void (*notify)(struct avr_irq_t*, uint32_t, void*), void* param, IoReads reads);
     /// The fast-forward engine, or nullptr while it is off.
     const FastForward* fast_forward() const { return fast_forward_.get(); }
+    /// simavr's run_cycle_limit outside run_until's stepping loops: 1 while a
+    /// step watch is on (fast-forward restores it after stepping, during
+    /// which an interrupt entry may have switched a watch on).
+    Cycles free_run_limit() const;
 
     /// A 16-bit word of flash at a byte address (little-endian, as fetched).
     uint16_t flash_word(uint32_t byte_address) const;
@@ -241,8 +249,6 @@ private:
     /// Handles what event_pending() saw: kWatchdogReset or kSimavrError.
     RunStop take_event();
     void apply_setup();
-    /// run_cycle_limit outside run_until's stepping loops: 1 while a step watch is on.
-    Cycles free_run_limit() const;
 };
 
 }  // namespace ddmr::hil

@@ -32,10 +32,11 @@ EepromWriteTiming::EepromWriteTiming(AvrCore& core, EepromTimingMode mode)
     const uint32_t bytes = core.mcu().eeprom_bytes;
     if (bytes == 0 || (bytes & (bytes - 1)) != 0) throw std::logic_error("EepromWriteTiming: EEPROM size not a power of two");
     writes_.reserve(kReservedWrites);
-    // A read of EECR (eeprom_busy_wait's poll of EEPE) starts nothing (EEMPE
-    // reads 0 in on_eecr; holding EEPE while busy holds it again), but the
-    // skip of that poll is not yet exact (docs/fast-forward.md): kMatter.
-    eecr_irq_ = core_.watch_io(eecr_, &EepromWriteTiming::on_eecr, this, AvrCore::IoReads::kMatter);
+    // A read of EECR (eeprom_busy_wait's poll of EEPE) changes nothing here:
+    // it starts no write (a read's value is EECR itself, so "EEMPE in the
+    // value, clear in the register" never holds) and, while busy, holding
+    // EEPE sets a bit already set. So fast-forward may skip the poll.
+    eecr_irq_ = core_.watch_io(eecr_, &EepromWriteTiming::on_eecr, this, AvrCore::IoReads::kIgnored);
     // A reset clears EECR and cancels the completion timer: the write in
     // progress (already in simavr's EEPROM) ends there.
     core_.add_reset_listener(this, [this] { busy_ = false; });
@@ -43,7 +44,7 @@ EepromWriteTiming::EepromWriteTiming(AvrCore& core, EepromTimingMode mode)
 
 EepromWriteTiming::~EepromWriteTiming() {
     core_.remove_reset_listener(this);
-    core_.unwatch_io(eecr_, &EepromWriteTiming::on_eecr, this, AvrCore::IoReads::kMatter);
+    core_.unwatch_io(eecr_, &EepromWriteTiming::on_eecr, this, AvrCore::IoReads::kIgnored);
     avr_cycle_timer_cancel(core_.raw(), &EepromWriteTiming::on_write_done, this);
     if (busy_) release_eepe();
 }

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <limits>
 
+#include "hil/avr_core.hpp"
 #include "hil/avr_decode.hpp"
 #include "hil/mcu.hpp"
 #include "hil/simavr_io.hpp"
@@ -29,15 +30,15 @@ constexpr Cycles kMinPassesPerJump = 2;
 constexpr Cycles kLearningBackoff = 4096;
 /// Passes that twice left their path before it repeated: refused after this many tries.
 constexpr int kMaxLearningTries = 16;
-
-uint16_t stack_pointer(const avr_t* avr, const McuDescription& mcu) {
-    return static_cast<uint16_t>(avr->data[mcu.spl] | (avr->data[mcu.sph] << 8));
-}
-
-uint16_t flash_word(const avr_t* avr, uint32_t byte_address) {
-    if (byte_address + 1 > avr->flashend) return 0xFFFF;
-    return static_cast<uint16_t>(avr->flash[byte_address] | (avr->flash[byte_address + 1] << 8));
-}
+/// Cycles kept between a verification pass's end and the bound: an
+/// instruction that leaves the path may take more cycles than on the
+/// learned pass (a skip, a taken branch: at most a 5-cycle RET/CALL more),
+/// and must still end before the bound's timer, which could raise an
+/// interrupt the restore cannot take back.
+constexpr Cycles kVerifyMargin = 5;
+/// Jumps tried in a row at one anchor (bisection toward a change of path,
+/// retries up to an event a part's step scheduled).
+constexpr int kMaxJumpAttempts = 12;
 
 /// True if something listens to the I/O address's memory IRQs (raised on reads too).
 bool has_listeners(const avr_t* avr, uint16_t address) {
@@ -95,6 +96,7 @@ struct FastForward::Loop {
     SkippedLoop info;
     uint16_t sp = 0;
     std::vector<uint32_t> pcs;
+    std::vector<uint32_t> step_ends;  ///< per step: cycles from the anchor to its end
     /// Per step: the bytes it accessed through a pointer register (LD/ST X,
     /// Y, Z), checked again on the verification pass; other steps' addresses
     /// follow from the path and SP.
@@ -113,15 +115,16 @@ struct FastForward::Snapshot {
     int8_t interrupt_state = 0;
 };
 
-FastForward::FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable,
+FastForward::FastForward(AvrCore& core, const std::vector<ReplayableTimer>& replayable,
                          const std::unordered_map<uint16_t, IoWatchers>& watchers)
-    : avr_(avr),
-      mcu_(mcu),
+    : core_(core),
+      avr_(core.raw()),
+      mcu_(core.mcu()),
       replayable_(replayable),
       watchers_(watchers),
-      state_((mcu.flash_bytes + 1) / 2, kUnknown) {
-    for (avr_io_t* io : simavr_io_modules(avr, "timer")) timers_.push_back(io);
-    saved_data_.resize(static_cast<std::size_t>(avr->ramend) + 1);
+      state_((mcu_.flash_bytes + 1) / 2, kUnknown) {
+    for (avr_io_t* io : simavr_io_modules(avr_, "timer")) timers_.push_back(io);
+    saved_data_.resize(static_cast<std::size_t>(avr_->ramend) + 1);
 }
 
 FastForward::~FastForward() = default;
@@ -129,7 +132,7 @@ FastForward::~FastForward() = default;
 CpuView FastForward::cpu() const {
     CpuView v;
     v.data = avr_->data;
-    v.sp = stack_pointer(avr_, mcu_);
+    v.sp = core_.stack_pointer();
     v.sreg_address = mcu_.sreg;
     v.pc_bytes = mcu_.pc_bytes;
     return v;
@@ -145,7 +148,7 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
         ++refused_[static_cast<std::size_t>(-2 - st)].visits;
         return false;
     }
-    const uint16_t sp = stack_pointer(avr_, mcu_);
+    const uint16_t sp = core_.stack_pointer();
     bool seen = false;
     for (unsigned i = 0; i < 8; ++i) seen = seen || (last_pc_[i] == pc && last_sp_[i] == sp);
     last_pc_[last_next_] = pc;
@@ -158,26 +161,24 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
 bool FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
                               const bool& halt_a, const bool& halt_b) {
     const Cycles start = avr_->cycle;
-    const uint16_t sp = stack_pointer(avr_, mcu_);
+    const uint16_t sp = core_.stack_pointer();
     const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
     steps.clear();
     while (steps.size() < kMaxPassSteps) {
         const uint32_t pc = avr_->pc;
-        if (!steps.empty() && pc == anchor && stack_pointer(avr_, mcu_) == sp) {
+        if (!steps.empty() && pc == anchor && core_.stack_pointer() == sp) {
             cycles = avr_->cycle - start;
             return true;
         }
-        steps.push_back({pc, stack_pointer(avr_, mcu_), step_access(flash_word(avr_, pc), flash_word(avr_, pc + 2), cpu())});
-        avr_->run_cycle_count = 1;
-        avr_run(avr_);
-        if (avr_->state != cpu_Running || halt_a || halt_b) return false;
+        steps.push_back({pc, core_.stack_pointer(), step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu())});
+        if (!step_one() || halt_a || halt_b) return false;
+        steps.back().cycles_after = static_cast<uint32_t>(avr_->cycle - start);
         if (avr_->pc < vectors_end || avr_->cycle - start > kMaxPassCycles) return false;  // an interrupt
     }
     return false;
 }
 
 bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b) {
-    const Cycles limit = avr_->run_cycle_limit;
     avr_->run_cycle_limit = 1;
     std::vector<RecordedStep> first;
     std::vector<RecordedStep> second;
@@ -188,7 +189,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     uint8_t sreg_before[8];
     std::memcpy(sreg_before, avr_->sreg, sizeof sreg_before);
     ok = ok && record_pass(anchor, second, c2, halt_a, halt_b);
-    avr_->run_cycle_limit = limit;
+    avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
     no_learning_before_ = avr_->cycle + kLearningBackoff;
     if (!ok) return true;
     const bool same_path = c1 == c2 && first.size() == second.size() &&
@@ -218,17 +219,24 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     }
     loop.info.anchor = anchor;
     loop.info.pass_cycles = c2;
-    loop.sp = stack_pointer(avr_, mcu_);
+    loop.sp = core_.stack_pointer();
     loop.carried = analysis.carried;
     loop.carried_flags = analysis.carried_flags;
     loop.info.pc_low = loop.info.pc_high = anchor;
     loop.span.min_sp = loop.span.max_sp = loop.sp;
     for (const RecordedStep& s : second) {
+        if (s.access.mem_write) {
+            for (unsigned i = 0; i < s.access.count; ++i) {
+                const uint16_t a = s.access.address[i];
+                if (a >= mcu_.sram_start) loop.span.lowest_sram_write = std::min(loop.span.lowest_sram_write, a);
+            }
+        }
         loop.span.min_sp = std::min(loop.span.min_sp, s.sp);
         loop.span.max_sp = std::max(loop.span.max_sp, s.sp);
         loop.pcs.push_back(s.pc);
+        loop.step_ends.push_back(s.cycles_after);
         loop.accesses.push_back(s.access);
-        const auto d = avr::decode_data_access(flash_word(avr_, s.pc), 0);
+        const auto d = avr::decode_data_access(core_.flash_word(s.pc), 0);
         loop.through_pointer.push_back(d && d->pointer != avr::Pointer::kNone);
         loop.info.pc_low = std::min(loop.info.pc_low, s.pc);
         loop.info.pc_high = std::max(loop.info.pc_high, s.pc);
@@ -272,53 +280,55 @@ void FastForward::refuse(uint32_t anchor, std::string reason) {
     refused_.push_back(RefusedLoop{anchor, fmt::format("PC 0x{:04x}: {}", anchor, reason), 0});
 }
 
-bool FastForward::deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const {
+FastForward::Defer FastForward::deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const {
     const void* param = slot.param;
     for (const ReplayableTimer& r : replayable_) {
-        if (r.fn == slot.timer && r.param == param) return r.may_replay(loop.span);
+        if (r.fn != slot.timer || r.param != param) continue;
+        if (!r.may_replay(loop.span)) return Defer::kNo;
+        return r.runs == ReplayableTimer::Runs::kAtOwnCycle ? Defer::kAtOwnCycle : Defer::kReplay;
     }
     for (std::size_t n = 0; n < timers_.size(); ++n) {
         if (timers_[n] != param) continue;
-        if ((loop.timers_read >> n) & 1U) return false;
+        if ((loop.timers_read >> n) & 1U) return Defer::kNo;
         auto* t = static_cast<avr_timer_t*>(timers_[n]);
-        if (avr_regbit_get(avr_, t->overflow.enable) != 0 || avr_regbit_get(avr_, t->icr.enable) != 0) return false;
+        if (avr_regbit_get(avr_, t->overflow.enable) != 0 || avr_regbit_get(avr_, t->icr.enable) != 0) return Defer::kNo;
         for (const avr_timer_comp_t& c : t->comp) {
             if (c.r_ocr == 0) continue;
-            if (avr_regbit_get(avr_, c.interrupt.enable) != 0) return false;
-            if (c.comp_cycles != 0 && avr_regbit_get(avr_, c.com) != 0) return false;  // drives its OC pin
+            if (avr_regbit_get(avr_, c.interrupt.enable) != 0) return Defer::kNo;
+            if (c.comp_cycles != 0 && avr_regbit_get(avr_, c.com) != 0) return Defer::kNo;  // drives its OC pin
         }
-        return true;
+        return Defer::kReplay;
     }
-    return false;
+    return Defer::kNo;
 }
 
 Cycles FastForward::bound(const Loop& loop) const {
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr; t = t->next) {
-        if (!deferrable(*t, loop)) return t->when;
+        if (deferrable(*t, loop) == Defer::kNo) return t->when;
     }
     return std::numeric_limits<Cycles>::max();
+}
+
+bool FastForward::step_one() {
+    avr_->run_cycle_count = 1;
+    avr_run(avr_);
+    return avr_->state == cpu_Running;
 }
 
 bool FastForward::verify_pass(const Loop& loop) {
     for (std::size_t i = 0; i < loop.pcs.size(); ++i) {
         const uint32_t pc = avr_->pc;
         if (pc != loop.pcs[i]) return false;
-        if (!loop.through_pointer[i]) {
-            avr_->run_cycle_count = 1;
-            avr_run(avr_);
-            if (avr_->state != cpu_Running) return false;
-            continue;
+        if (loop.through_pointer[i]) {
+            const StepAccess a = step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu());
+            const StepAccess& b = loop.accesses[i];
+            if (a.count != b.count || !std::equal(a.address.begin(), a.address.begin() + a.count, b.address.begin())) {
+                return false;
+            }
         }
-        const StepAccess a = step_access(flash_word(avr_, pc), flash_word(avr_, pc + 2), cpu());
-        const StepAccess& b = loop.accesses[i];
-        if (a.count != b.count || !std::equal(a.address.begin(), a.address.begin() + a.count, b.address.begin())) {
-            return false;
-        }
-        avr_->run_cycle_count = 1;
-        avr_run(avr_);
-        if (avr_->state != cpu_Running) return false;
+        if (!step_one()) return false;
     }
-    return avr_->pc == loop.info.anchor && stack_pointer(avr_, mcu_) == loop.sp;
+    return avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp;
 }
 
 bool FastForward::carried_unchanged(const Loop& loop, const Snapshot& before) const {
@@ -328,55 +338,142 @@ bool FastForward::carried_unchanged(const Loop& loop, const Snapshot& before) co
     return flags_equal(loop.carried_flags, before.sreg, avr_->sreg);
 }
 
-bool FastForward::try_jump(Loop& loop) {
-    const Cycles now = avr_->cycle;
-    const Cycles pass = loop.info.pass_cycles;
-    if (now < no_jump_before_ || stack_pointer(avr_, mcu_) != loop.sp) return false;
-    if (avr_->interrupt_state != 0 || avr_has_pending_interrupts(avr_) != 0) return false;
-    const Cycles edge = bound(loop);
-    if (edge <= now + (kMinPassesPerJump + 2) * pass) return false;
-    const Cycles k = (edge - 1 - now) / pass - 1;  // the verification pass ends before the edge
-    const Cycles end = now + (k + 1) * pass;
-    // Hold back the flag-only timers due before the end; replayed after.
-    struct Held {
-        avr_cycle_timer_t fn;
-        void* param;
-        Cycles when;
-    };
+/// A pending cycle timer taken off simavr's list for a jump.
+struct FastForward::Held {
+    avr_cycle_timer_t fn;
+    void* param;
+    Cycles when;  ///< due at; 0 once run and not to be registered again
+    bool own_cycle;
+};
+
+std::vector<FastForward::Held> FastForward::hold_timers(const Loop& loop, Cycles end) {
     std::vector<Held> held;
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr && t->when <= end; t = t->next) {
-        held.push_back({t->timer, t->param, t->when});
+        held.push_back({t->timer, t->param, t->when, deferrable(*t, loop) == Defer::kAtOwnCycle});
     }
     for (const Held& h : held) avr_cycle_timer_cancel(avr_, h.fn, h.param);
-    Snapshot before;
-    before.cycle = now;
-    before.pc = avr_->pc;
-    std::memcpy(before.sreg, avr_->sreg, sizeof before.sreg);
-    before.interrupt_state = avr_->interrupt_state;
+    return held;
+}
+
+void FastForward::release(const std::vector<Held>& held) {
+    // Registered again at their own cycles (a delta past now wraps to the
+    // same absolute cycle), in order; those already due run now, in order.
+    for (const Held& h : held) {
+        if (h.when != 0) avr_cycle_timer_register(avr_, h.when - avr_->cycle, h.fn, h.param);
+    }
+    avr_cycle_timer_process(avr_);
+}
+
+FastForward::Snapshot FastForward::snapshot() {
+    Snapshot s;
+    s.cycle = avr_->cycle;
+    s.pc = avr_->pc;
+    std::memcpy(s.sreg, avr_->sreg, sizeof s.sreg);
+    s.interrupt_state = avr_->interrupt_state;
     std::memcpy(saved_data_.data(), avr_->data, saved_data_.size());
-    const Cycles limit = avr_->run_cycle_limit;
+    return s;
+}
+
+void FastForward::restore(const Snapshot& before) {
+    std::memcpy(avr_->data, saved_data_.data(), saved_data_.size());
+    std::memcpy(avr_->sreg, before.sreg, sizeof before.sreg);
+    avr_->pc = before.pc;
+    avr_->cycle = before.cycle;
+    avr_->interrupt_state = before.interrupt_state;
+}
+
+// The verified passes wrote no I/O and took no interrupt, so a part's step
+// due inside them reads what it would have read at its own cycle. Each runs
+// there, in order, while nothing it scheduled falls inside the jump.
+// Returns false if the jump must be taken back; `stop_at`: the cycle of a
+// step that requested a stop (0: none), which the caller defers to there.
+/// The cycle at which simavr runs a timer due at `when` inside passes that
+/// started at `now`: the end of the instruction that reaches it.
+Cycles FastForward::fires_at(const Loop& loop, Cycles now, Cycles when) {
+    const Cycles pass = loop.info.pass_cycles;
+    const Cycles into = (when - now) % pass;
+    if (into == 0) return when;
+    const auto it = std::lower_bound(loop.step_ends.begin(), loop.step_ends.end(), into);
+    return when - into + (it == loop.step_ends.end() ? pass : *it);
+}
+
+bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held, Cycles now, Cycles end,
+                                       Cycles& stop_at) {
+    for (Held& h : held) {
+        if (!h.own_cycle) continue;
+        while (h.when != 0 && h.when <= end) {
+            if (bound(loop) <= end) return false;  // an earlier step scheduled an event inside the jump
+            const Cycles at = h.when;
+            avr_->cycle = fires_at(loop, now, at);
+            const Cycles next = h.fn(avr_, at, h.param);
+            avr_->cycle = end;
+            h.when = next > at ? next : 0;
+            if (core_.stop_requested()) {
+                core_.clear_stop_request();
+                stop_at = at;
+                return false;
+            }
+        }
+    }
+    return bound(loop) > end;
+}
+
+// Jumps as far as the loop's path holds. A verification pass that leaves
+// the path (delay() counting down one more millisecond) shows that the
+// path changes by its end: the next attempt aims at half the distance
+// to there, so the jumps close in on the change by bisection. A jump taken
+// back for an event a part's step scheduled inside it is tried again up to
+// that event (the steps already run stay run).
+bool FastForward::try_jump(Loop& loop) {
+    if (avr_->cycle < no_jump_before_ || core_.stack_pointer() != loop.sp) return false;
+    if (avr_->interrupt_state != 0 || avr_has_pending_interrupts(avr_) != 0) return false;
+    Cycles changes_by = std::numeric_limits<Cycles>::max();  // the path is seen to change by then
+    bool ran = false;
+    for (int attempt = 0; attempt < kMaxJumpAttempts; ++attempt) {
+        const Cycles now = avr_->cycle;
+        const Cycles cap = changes_by == std::numeric_limits<Cycles>::max() ? changes_by
+                                                                             : now + (changes_by - now) / 2;
+        const Jump outcome = jump_once(loop, now, cap, changes_by);
+        if (outcome == Jump::kTooShort) break;
+        ran = true;
+        if (outcome == Jump::kStopDeferred) return true;
+        if (outcome == Jump::kSkipped && changes_by == std::numeric_limits<Cycles>::max()) return true;
+    }
+    if (changes_by != std::numeric_limits<Cycles>::max()) no_jump_before_ = changes_by;
+    return ran;
+}
+
+FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by) {
+    const Cycles pass = loop.info.pass_cycles;
+    const Cycles edge = std::min(bound(loop), cap);
+    if (edge <= now + (kMinPassesPerJump + 2) * pass + kVerifyMargin) return Jump::kTooShort;
+    const Cycles k = (edge - 1 - kVerifyMargin - now) / pass - 1;  // the verification pass ends before the edge
+    const Cycles end = now + (k + 1) * pass;
+    std::vector<Held> held = hold_timers(loop, end);
+    const Snapshot before = snapshot();
     avr_->run_cycle_limit = 1;
     avr_->cycle = now + k * pass;
-    const bool ok = verify_pass(loop) && avr_->cycle == end && carried_unchanged(loop, before);
-    avr_->run_cycle_limit = limit;
-    if (!ok) {
-        std::memcpy(avr_->data, saved_data_.data(), saved_data_.size());
-        std::memcpy(avr_->sreg, before.sreg, sizeof before.sreg);
-        avr_->pc = before.pc;
-        avr_->cycle = before.cycle;
-        avr_->interrupt_state = before.interrupt_state;
+    const bool verified = verify_pass(loop) && avr_->cycle == end && carried_unchanged(loop, before);
+    avr_->run_cycle_limit = core_.free_run_limit();
+    Jump outcome = Jump::kSkipped;
+    Cycles stop_at = 0;
+    if (!verified) {
+        restore(before);
         ++loop.info.mismatches;
-        no_jump_before_ = edge;
+        changes_by = end;
+        outcome = Jump::kMismatch;
+    } else if (!run_own_cycle_timers(loop, held, now, end, stop_at)) {
+        restore(before);
+        ++loop.info.taken_back;
+        outcome = stop_at != 0 ? Jump::kStopDeferred : Jump::kTakenBack;
     } else {
         ++loop.info.skips;
         loop.info.cycles_skipped += k * pass;
         cycles_skipped_ += k * pass;
     }
-    // Registered again at their own cycles (a delta past now wraps to the
-    // same absolute cycle), in order; those already due run now, in order.
-    for (const Held& h : held) avr_cycle_timer_register(avr_, h.when - avr_->cycle, h.fn, h.param);
-    avr_cycle_timer_process(avr_);
-    return true;
+    release(held);
+    if (stop_at != 0) core_.stop_after(stop_at - now);
+    return outcome;
 }
 
 FastForwardStats FastForward::stats() const {
@@ -385,6 +482,7 @@ FastForwardStats FastForward::stats() const {
     for (const Loop& l : loops_) {
         s.skips += l.info.skips;
         s.mismatches += l.info.mismatches;
+        s.taken_back += l.info.taken_back;
         s.loops.push_back(l.info);
         s.loops.back().path = l.pcs;
     }

@@ -13,13 +13,16 @@
 //
 // Jump: at an anchor, with no interrupt pending, the next cycle timer that
 // may change what the loop reads or be observed (a timer that raises an
-// interrupt, a UART/TWI/ADC/EEPROM completion, the plant's coupling step and
-// pin events, a run's target or stop) bounds the jump; timers that only set
-// the flag of a disabled interrupt (Timer1/Timer2 overflows in simavr 1.6),
-// of a timer the loop does not read, are held back and replayed in order
-// after it. The state is saved, the clock moves k passes on, and one pass
-// is stepped and checked against the learned path and carried bytes; on a
-// mismatch the state is restored and the window runs normally.
+// interrupt, a UART/TWI/ADC/EEPROM completion, the plant's pin events, a
+// run's target or stop) bounds the jump; timers that only set the flag of a
+// disabled interrupt (Timer1/Timer2 overflows in simavr 1.6), of a timer the
+// loop does not read, are held back and replayed in order after it, and the
+// parts' steps that may run inside a jump (ReplayableTimer::kAtOwnCycle: the
+// plant coupler's) run at their own cycles once it is verified. The state is
+// saved, the clock moves k passes on, and one pass is stepped and checked
+// against the learned path and carried bytes; on a mismatch the state is
+// restored and the next try aims at half the distance (bisection toward the
+// change of path).
 //
 // Not used while instruction hooks or a step watch are installed (the
 // profilers, the race detector inside an ISR) or gdb serves the run: the
@@ -39,6 +42,7 @@ struct avr_cycle_timer_slot_t;
 
 namespace ddmr::hil {
 
+class AvrCore;
 struct McuDescription;
 
 /// The parts watching one I/O register through simavr's memory IRQ, which
@@ -52,17 +56,34 @@ struct IoWatchers {
 struct LoopSpan {
     uint16_t min_sp = 0;  ///< the lowest SP before any instruction of a pass
     uint16_t max_sp = 0;  ///< the highest
+    /// The lowest SRAM address a pass writes (0xFFFF: none; registers, SREG
+    /// and SP are not SRAM).
+    uint16_t lowest_sram_write = 0xFFFF;
     const std::vector<uint32_t>* pcs = nullptr;  ///< the PCs of a pass, in order
+    /// True if a pass writes no SRAM byte below its own stack (no global,
+    /// no heap): what a part reads of the firmware's globals is the same at
+    /// every cycle of the skipped passes.
+    [[nodiscard]] bool writes_only_own_stack() const { return lowest_sram_write >= min_sp; }
 };
 
-/// A cycle timer of a part that only observes (a sampler): it may run after
-/// a jump, at its own cycles, in order, instead of bounding the jump, when
-/// `may_replay` says that none of its calls over such passes would change
-/// anything (e.g. a stack sampler, if the passes' SP stays above its limit).
+/// A cycle timer of a part that does not bound a jump, when `may_replay`
+/// says so for the passes skipped:
+/// - kAfterJump: a sampler whose calls over such passes would change
+///   nothing (a stack sampler, if the passes' SP stays above its limit); run
+///   after the jump, in order.
+/// - kAtOwnCycle: a part's step that reads of the firmware only what such
+///   passes cannot change (the plant coupler: the driver pins' recorded
+///   waveforms, globals). Run once the jump is verified (no I/O written, no
+///   interrupt in it), at its own cycle (the core's clock set to it). It may
+///   schedule cycle timers: if one falls inside the jump, the jump is taken
+///   back and the run goes on from before it. A stop it requests is
+///   deferred to its own cycle the same way.
 struct ReplayableTimer {
+    enum class Runs { kAfterJump, kAtOwnCycle };
     uint64_t (*fn)(avr_t*, uint64_t, void*) = nullptr;
     void* param = nullptr;
     std::function<bool(const LoopSpan&)> may_replay;
+    Runs runs = Runs::kAfterJump;
 };
 
 /// One learned loop (an anchor PC and its pass).
@@ -74,6 +95,7 @@ struct SkippedLoop {
     uint64_t skips = 0;              ///< jumps taken
     uint64_t cycles_skipped = 0;
     uint64_t mismatches = 0;         ///< verification passes that left the path
+    uint64_t taken_back = 0;         ///< verified jumps undone: a part's step scheduled an event inside
 };
 
 /// An anchor that was refused, with the reason and how often the run came by it.
@@ -87,15 +109,17 @@ struct FastForwardStats {
     uint64_t cycles_skipped = 0;
     uint64_t skips = 0;
     uint64_t mismatches = 0;
+    uint64_t taken_back = 0;
     std::vector<SkippedLoop> loops;
     std::vector<RefusedLoop> refused;
 };
 
 class FastForward {
 public:
-    /// `replayable`: the parts' observing timers (owned by the caller, kept up to date).
-    /// `watchers`: the parts' I/O watches by data address (owned by the caller).
-    FastForward(avr_t* avr, const McuDescription& mcu, const std::vector<ReplayableTimer>& replayable,
+    /// `core`: the core it runs in (owns it). `replayable`: the parts'
+    /// timers that need not bound a jump (owned by the caller, kept up to
+    /// date). `watchers`: the parts' I/O watches by data address (likewise).
+    FastForward(AvrCore& core, const std::vector<ReplayableTimer>& replayable,
                 const std::unordered_map<uint16_t, IoWatchers>& watchers);
     ~FastForward();
     FastForward(const FastForward&) = delete;
@@ -117,15 +141,28 @@ private:
     bool record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles, const bool& halt_a,
                      const bool& halt_b);
     std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
+    struct Held;
     bool try_jump(Loop& loop);
+    enum class Jump { kTooShort, kMismatch, kTakenBack, kStopDeferred, kSkipped };
+    Jump jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by);
     bool verify_pass(const Loop& loop);
+    bool step_one();
     bool carried_unchanged(const Loop& loop, const Snapshot& before) const;
+    Snapshot snapshot();
+    void restore(const Snapshot& before);
+    std::vector<Held> hold_timers(const Loop& loop, Cycles end);
+    bool run_own_cycle_timers(const Loop& loop, std::vector<Held>& held, Cycles now, Cycles end, Cycles& stop_at);
+    static Cycles fires_at(const Loop& loop, Cycles now, Cycles when);
+    void release(const std::vector<Held>& held);
     Cycles bound(const Loop& loop) const;
-    bool deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const;
+    /// How a pending cycle timer stands to a jump over the loop's passes.
+    enum class Defer { kNo, kReplay, kAtOwnCycle };
+    Defer deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const;
     void refuse(uint32_t anchor, std::string reason);
     int32_t& slot(uint32_t pc) { return state_[pc >> 1]; }
     CpuView cpu() const;
 
+    AvrCore& core_;
     avr_t* avr_;
     const McuDescription& mcu_;
     const std::vector<ReplayableTimer>& replayable_;

@@ -58,6 +58,7 @@ struct RecordedStep {
     uint32_t pc = 0;
     uint16_t sp = 0;  ///< SP before it ran
     StepAccess access;
+    uint32_t cycles_after = 0;  ///< cycles from the pass's start to the end of this instruction
 };
 
 /// The verdict on a pass.

@@ -37,6 +37,12 @@ PlantCoupler::PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader
     start_cycle_ = core_.cycle();
     next_boundary_ = start_cycle_;
     avr_cycle_timer_register(core_.raw(), 0, &PlantCoupler::on_step, this);
+    // A step reads the driver inputs' recorded waveforms, and its observers
+    // read globals: over skipped passes that write neither (fast-forward
+    // verifies that they wrote no I/O), it may run at its own cycle inside
+    // the jump; what it schedules then bounds the jump.
+    core_.allow_replay({&PlantCoupler::on_step, this, [](const LoopSpan& s) { return s.writes_only_own_stack(); },
+                        ReplayableTimer::Runs::kAtOwnCycle});
     // An AVR reset cancels every cycle timer: the plant steps on from the
     // boundary it was due at (it has already advanced up to there).
     core_.add_reset_listener(this, [this] {
@@ -48,6 +54,7 @@ PlantCoupler::PlantCoupler(AvrCore& core, plant::Robot& robot, MotorDriverReader
 }
 
 PlantCoupler::~PlantCoupler() {
+    core_.forget_replay(this);
     core_.remove_reset_listener(this);
     avr_cycle_timer_cancel(core_.raw(), &PlantCoupler::on_step, this);
 }

@@ -50,6 +50,7 @@ nlohmann::json fast_forward_json(const hil::AvrCore& core, hil::Cycles cycles_to
         if (fresh) continue;
         it->second.skips += l.skips;
         it->second.mismatches += l.mismatches;
+        it->second.taken_back += l.taken_back;
         it->second.cycles_skipped += l.cycles_skipped;
     }
     nlohmann::json loops = nlohmann::json::array();
@@ -60,7 +61,8 @@ nlohmann::json fast_forward_json(const hil::AvrCore& core, hil::Cycles cycles_to
                          {"anchors", anchors[key]},
                          {"skips", l.skips},
                          {"cycles_skipped", l.cycles_skipped},
-                         {"mismatches", l.mismatches}});
+                         {"mismatches", l.mismatches},
+                         {"taken_back", l.taken_back}});
     }
     // A refused anchor on a loop skipped from another anchor is no news.
     std::set<uint32_t> skipped_pcs;
@@ -80,6 +82,7 @@ nlohmann::json fast_forward_json(const hil::AvrCore& core, hil::Cycles cycles_to
                                                : 0.0},
             {"skips", s.skips},
             {"mismatches", s.mismatches},
+            {"taken_back", s.taken_back},
             {"loops", loops},
             {"not_skipped", refused}};
 }

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sim_irq.h>
+
 #include "hil/eeprom_port.hpp"
 #include "hil/uart_link.hpp"
 #include "support/reference_run.hpp"
@@ -80,6 +82,37 @@ TEST(AvrCore, StopAfterStopsAtTheExactCycle) {
     EXPECT_EQ(core.run_until(1'000'000), hil::RunStop::kCondition);
     EXPECT_GE(core.cycle(), start + 5000);
     EXPECT_LT(core.cycle(), start + 5010);
+}
+
+// A stop a part requests from an I/O callback ends the run right after the
+// instruction that raised it, however simavr batches instructions: with
+// batches of up to 100,000 cycles and of one instruction, init()'s first
+// write of TCCR0B stops the run at the same cycle, within an instruction of
+// the write.
+TEST(AvrCore, ARequestedStopEndsTheRunAfterTheInstructionThatAskedForIt) {
+    const auto elf = hil::ElfImage::read(firmware_elf());
+    const auto stop_cycle = [&](hil::Cycles run_cycle_limit) {
+        hil::AvrCoreConfig config;
+        config.run_cycle_limit = run_cycle_limit;
+        hil::AvrCore core(elf, config);
+        struct Watch {
+            hil::AvrCore* core;
+            hil::Cycles written = 0;
+        } watch{&core};
+        const uint16_t tccr0b = core.mcu().timers.front().tccrb;
+        const auto notify = [](avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {
+            auto* w = static_cast<Watch*>(param);
+            if (w->written == 0) w->written = w->core->cycle();
+            w->core->request_stop();
+        };
+        core.watch_io(tccr0b, notify, &watch, hil::AvrCore::IoReads::kMatter);
+        EXPECT_EQ(core.run_until(1'000'000), hil::RunStop::kCondition);
+        EXPECT_GT(watch.written, 0U);
+        EXPECT_LE(core.cycle(), watch.written + 5);  // the longest instruction: 5 cycles
+        core.unwatch_io(tccr0b, notify, &watch, hil::AvrCore::IoReads::kMatter);
+        return core.cycle();
+    };
+    EXPECT_EQ(stop_cycle(100'000), stop_cycle(1));
 }
 
 TEST(AvrCore, ResetRestartsTheFirmwareAndKeepsTimeAndEeprom) {

@@ -38,11 +38,18 @@ TEST(FastForwardReport, NamesTheLoopsItSkippedAndWhyOthersWereNot) {
     EXPECT_LT(ff["skipped_share"].get<double>(), 1.0);
     ASSERT_FALSE(ff["loops"].empty());
     bool wait_skipped = false;
+    uint64_t skips = 0, mismatches = 0, taken_back = 0;
     for (const json& l : ff["loops"]) {
         EXPECT_EQ(l["cycles_skipped"].get<uint64_t>() % l["pass_cycles"].get<uint64_t>(), 0U);  // whole passes
         wait_skipped |= l["skips"].get<uint64_t>() > 0;
+        skips += l["skips"].get<uint64_t>();
+        mismatches += l["mismatches"].get<uint64_t>();
+        taken_back += l["taken_back"].get<uint64_t>();
     }
     EXPECT_TRUE(wait_skipped);
+    EXPECT_EQ(skips, ff["skips"].get<uint64_t>());  // the loops' counts add up to the run's
+    EXPECT_EQ(mismatches, ff["mismatches"].get<uint64_t>());
+    EXPECT_EQ(taken_back, ff["taken_back"].get<uint64_t>());
     bool counter_named = false;
     for (const json& r : ff["not_skipped"]) {
         counter_named |= r["reason"].get<std::string>().find("from pass to pass") != std::string::npos &&
