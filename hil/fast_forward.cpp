@@ -25,7 +25,7 @@ namespace {
 constexpr std::size_t kMaxPassSteps = 400;
 constexpr Cycles kMaxPassCycles = 2000;
 /// Fewer passes than this per jump do not pay for the verification pass.
-constexpr Cycles kMinPassesPerJump = 2;
+constexpr Cycles kMinPassesPerJump = 1;
 /// After a learning attempt an interrupt or a stop cut short.
 constexpr Cycles kLearningBackoff = 4096;
 /// Passes that twice left their path before it repeated: refused after this many tries.

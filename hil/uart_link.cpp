@@ -67,9 +67,9 @@ UartLink::UartLink(AvrCore& core, const UsartDesc& usart, UartTiming timing) : c
     if (timing == UartTiming::kChip) {
         for (uint16_t addr : {usart_.ucsra, usart_.ucsrb, usart_.ucsrc, usart_.ubrrl, usart_.ubrrh}) {
             // A read changes nothing (the frame time is recomputed from the
-            // same registers); declared kMatter until the skips around UART
-            // events are proven exact (docs/fast-forward.md).
-            core_.watch_io(addr, &UartLink::on_frame_register, this, AvrCore::IoReads::kMatter);
+            // same registers), so fast-forward may skip a loop reading them
+            // (UCSRnA itself stays refused: simavr's read of it raises XON).
+            core_.watch_io(addr, &UartLink::on_frame_register, this, AvrCore::IoReads::kIgnored);
         }
     }
     // A reset disables the USART: wait for the firmware's next XON (its
