@@ -95,7 +95,7 @@ bench: build
 	    --out $(BUILD)/bench/python.json
 	PYTHONPATH=$(BUILD)/python /usr/bin/python3 tools/python/examples/monte_carlo_circle.py \
 	    --firmware $(BUILD)/firmware/ddmr_tracking.elf --plants 200 --out $(BUILD)/bench/monte_carlo.json
-	/usr/bin/python3 tools/bench_fast_forward.py --build $(BUILD) --out $(BUILD)/bench/fast_forward.json
+	/usr/bin/python3 tools/python/bench/bench_fast_forward.py --build $(BUILD) --out $(BUILD)/bench/fast_forward.json
 	/usr/bin/python3 tools/bench_table.py $(BUILD)/bench
 
 # Static checks of the project's own code (plant/, hil/, tools/), part of

@@ -158,7 +158,7 @@ def main():
         c, w = python["case1"], python["sweep"]
         goal("case 1 driven from Python / ddmr-hil run (wall)", c["ratio"], "<= 1.05", c["ratio"] <= 1.05)
         goal(f"Dask sweep of {w['plants']} plants: 1 worker / 2 workers", w["speedup"], ">= 1.7", w["speedup"] >= 1.7)
-    # Issue 35: tools/bench_fast_forward.py (plain JSON too).
+    # Issue 35: tools/python/bench/bench_fast_forward.py (plain JSON too).
     ff = json.loads((bench / "fast_forward.json").read_text()) if (bench / "fast_forward.json").exists() else None
     if ff:
         c, s = ff["case1"], ff["suite"]

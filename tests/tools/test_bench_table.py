@@ -89,7 +89,7 @@ def test_the_python_api_goals_come_from_bench_api_json(tmp_path):
 
 
 def test_the_fast_forward_goals_come_from_bench_fast_forward_json(tmp_path):
-    """fast_forward.json as tools/bench_fast_forward.py writes it: case 1's
+    """fast_forward.json as tools/python/bench/bench_fast_forward.py writes it: case 1's
     ratio and skipped share against 3 and 0.70, the suite's ratio against 2.5."""
     (tmp_path / "fast_forward.json").write_text(json.dumps({
         "case1": {"on_median_s": 0.7, "off_median_s": 2.3, "ratio": 3.29, "rounds": 5, "skipped_share": 0.576,

@@ -9,21 +9,13 @@
     PYTHONPATH=build/python /usr/bin/python3 tools/python/bench/bench_api.py --build build --out build/bench/python.json
 """
 
-import argparse
-import json
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 
+from bench_timing import parse_bench_args, timed, write_result
 from ddmr_hil import grid, sweep
-
-
-def timed(cmd):
-    start = time.monotonic()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return time.monotonic() - start
 
 
 def case1_ratio(build, rounds):
@@ -57,15 +49,9 @@ def sweep_speedup(build):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--build", default="build")
-    ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
+    a = parse_bench_args()
     result = {"case1": case1_ratio(a.build, a.rounds), "sweep": sweep_speedup(a.build)}
-    with open(a.out, "w", encoding="utf-8") as f:
-        json.dump(result, f, indent=2)
-        f.write("\n")
+    write_result(a.out, result)
     c, s = result["case1"], result["sweep"]
     print(f"python case 1: {c['python_median_s']:.2f} s vs run {c['run_median_s']:.2f} s: ratio {c['ratio']:.3f} "
           f"(goal <= 1.05)")

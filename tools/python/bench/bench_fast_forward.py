@@ -8,24 +8,17 @@
    firmware/examples/*/scenario.yaml, -j 2) both ways; the ratio of the
    medians (goal >= 2.5).
 
-    /usr/bin/python3 tools/bench_fast_forward.py --build build --out build/bench/fast_forward.json
+    /usr/bin/python3 tools/python/bench/bench_fast_forward.py --build build --out build/bench/fast_forward.json
 """
 
-import argparse
 import glob
 import json
 import statistics
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-
-def timed(cmd):
-    start = time.monotonic()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    return time.monotonic() - start
+from bench_timing import parse_bench_args, timed, write_result
 
 
 def interleaved(on_cmd, off_cmd, rounds):
@@ -58,14 +51,9 @@ def suites(build, source, rounds):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--build", default="build")
-    ap.add_argument("--source", default=str(Path(__file__).resolve().parents[1]))
-    ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args()
+    a = parse_bench_args(with_source=True)
     result = {"case1": case1(a.build, a.rounds), "suite": suites(a.build, a.source, max(1, a.rounds // 2))}
-    Path(a.out).write_text(json.dumps(result, indent=2) + "\n")
+    write_result(a.out, result)
     c, s = result["case1"], result["suite"]
     print(f"case 1: {c['on_median_s']:.2f} s with fast-forward, {c['off_median_s']:.2f} s without: "
           f"x{c['ratio']:.2f} (goal >= 3); {100 * c['skipped_share']:.1f} % of cycles skipped (goal >= 70 %)")
