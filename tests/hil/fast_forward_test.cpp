@@ -122,6 +122,31 @@ TEST(FastForward, TheReferenceFirmwareMatchesItsCaseOneRun) {
     }));
 }
 
+// A condition polled at each coupling boundary, met inside a skip (the
+// boot's delay(5000): coupling steps run inside the skips), stops the run at
+// the boundary's own cycle, as without fast-forward: the skip is taken back
+// and the stop deferred to there.
+TEST(FastForward, AStopAStepInsideASkipAsksForComesAtItsOwnCycle) {
+    const ElfImage elf = ElfImage::read(test::firmware_elf());
+    Twin on(elf, true);
+    Twin off(elf, false);
+    for (const Cycles t : {Cycles{1'234'567}, Cycles{2'345'678}, Cycles{3'456'789}}) {
+        for (Twin* r : {&on, &off}) {
+            const Session& s = r->session;
+            const RunCondition until{[&s, t] { return s.cycle() >= t; }, true};
+            EXPECT_EQ(r->session.run(Session::kNoTarget, until), SessionStop::kCondition);
+        }
+        EXPECT_EQ(on.session.cycle(), off.session.cycle()) << t;
+        EXPECT_GE(on.session.cycle(), t);
+        EXPECT_LT(on.session.cycle(), t + 1000 + 5);  // the first boundary after t, and its instruction's end
+        EXPECT_EQ(std::memcmp(on.session.core().raw()->data, off.session.core().raw()->data,
+                              static_cast<std::size_t>(on.session.core().raw()->ramend) + 1),
+                  0)
+            << t;
+    }
+    EXPECT_GT(on.session.core().fast_forward()->stats().taken_back, 0U);
+}
+
 TEST(FastForward, GdbTurnsItOff) {
     SessionOptions o;
     o.time_limit = 1000;
