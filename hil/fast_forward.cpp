@@ -185,9 +185,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     Cycles c1 = 0;
     Cycles c2 = 0;
     bool ok = record_pass(anchor, first, c1, halt_a, halt_b);
-    std::memcpy(saved_data_.data(), avr_->data, saved_data_.size());
-    uint8_t sreg_before[8];
-    std::memcpy(sreg_before, avr_->sreg, sizeof sreg_before);
+    const Snapshot between = snapshot();  // the state the second pass starts from
     ok = ok && record_pass(anchor, second, c2, halt_a, halt_b);
     avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
     no_learning_before_ = avr_->cycle + kLearningBackoff;
@@ -210,7 +208,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
         why = a < 32 ? fmt::format("changes r{} from pass to pass", a)
                      : fmt::format("changes 0x{:04x} from pass to pass", a);
     }
-    if (why.empty() && !flags_equal(analysis.carried_flags, sreg_before, avr_->sreg)) {
+    if (why.empty() && !flags_equal(analysis.carried_flags, between.sreg, avr_->sreg)) {
         why = "changes an SREG flag from pass to pass";
     }
     if (!why.empty()) {
@@ -243,8 +241,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     }
     slot(anchor) = static_cast<int32_t>(loops_.size());
     loops_.push_back(std::move(loop));
-    loops_.back().span.pcs = &loops_.back().pcs;  // (re-pointed after each growth of loops_)
-    for (Loop& l : loops_) l.span.pcs = &l.pcs;
+    for (Loop& l : loops_) l.span.pcs = &l.pcs;  // re-pointed after each growth of loops_
     return true;
 }
 
@@ -382,11 +379,6 @@ void FastForward::restore(const Snapshot& before) {
     avr_->interrupt_state = before.interrupt_state;
 }
 
-// The verified passes wrote no I/O and took no interrupt, so a part's step
-// due inside them reads what it would have read at its own cycle. Each runs
-// there, in order, while nothing it scheduled falls inside the jump.
-// Returns false if the jump must be taken back; `stop_at`: the cycle of a
-// step that requested a stop (0: none), which the caller defers to there.
 /// The cycle at which simavr runs a timer due at `when` inside passes that
 /// started at `now`: the end of the instruction that reaches it.
 Cycles FastForward::fires_at(const Loop& loop, Cycles now, Cycles when) {
@@ -397,6 +389,11 @@ Cycles FastForward::fires_at(const Loop& loop, Cycles now, Cycles when) {
     return when - into + (it == loop.step_ends.end() ? pass : *it);
 }
 
+// The verified passes wrote no I/O and took no interrupt, so a part's step
+// due inside them reads what it would have read at its own cycle. Each runs
+// there, in order, while nothing it scheduled falls inside the jump.
+// Returns false if the jump must be taken back; `stop_at`: the cycle of a
+// step that requested a stop (0: none), which the caller defers to there.
 bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held, Cycles now, Cycles end,
                                        Cycles& stop_at) {
     for (Held& h : held) {
@@ -427,19 +424,19 @@ bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held
 bool FastForward::try_jump(Loop& loop) {
     if (avr_->cycle < no_jump_before_ || core_.stack_pointer() != loop.sp) return false;
     if (avr_->interrupt_state != 0 || avr_has_pending_interrupts(avr_) != 0) return false;
-    Cycles changes_by = std::numeric_limits<Cycles>::max();  // the path is seen to change by then
+    constexpr Cycles kNoChangeSeen = std::numeric_limits<Cycles>::max();
+    Cycles changes_by = kNoChangeSeen;  // the path is seen to change by then
     bool ran = false;
     for (int attempt = 0; attempt < kMaxJumpAttempts; ++attempt) {
         const Cycles now = avr_->cycle;
-        const Cycles cap = changes_by == std::numeric_limits<Cycles>::max() ? changes_by
-                                                                             : now + (changes_by - now) / 2;
+        const Cycles cap = changes_by == kNoChangeSeen ? kNoChangeSeen : now + (changes_by - now) / 2;
         const Jump outcome = jump_once(loop, now, cap, changes_by);
         if (outcome == Jump::kTooShort) break;
         ran = true;
         if (outcome == Jump::kStopDeferred) return true;
-        if (outcome == Jump::kSkipped && changes_by == std::numeric_limits<Cycles>::max()) return true;
+        if (outcome == Jump::kSkipped && changes_by == kNoChangeSeen) return true;
     }
-    if (changes_by != std::numeric_limits<Cycles>::max()) no_jump_before_ = changes_by;
+    if (changes_by != kNoChangeSeen) no_jump_before_ = changes_by;
     return ran;
 }
 
