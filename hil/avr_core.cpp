@@ -316,6 +316,7 @@ void AvrCore::set_fast_forward(bool on) {
     } else if (!fast_forward_) {
         fast_forward_ = std::make_unique<FastForward>(*this, replayable_, io_watchers_);
     }
+    avr_.get()->run_cycle_limit = free_run_limit();
 }
 
 avr_irq_t* AvrCore::watch_io(uint16_t address, void (*notify)(avr_irq_t*, uint32_t, void*), void* param,
@@ -343,7 +344,12 @@ void AvrCore::forget_replay(const void* param) {
                       replayable_.end());
 }
 
-Cycles AvrCore::free_run_limit() const { return step_watch_ != nullptr ? 1 : config_.run_cycle_limit; }
+Cycles AvrCore::free_run_limit() const {
+    if (step_watch_ != nullptr) return 1;
+    // Fast-forward finds loops by the PCs batches end at: end one at least
+    // every kSamplePeriod cycles (at cycle timers alone they can be far apart).
+    return fast_forward_ ? std::min(config_.run_cycle_limit, FastForward::kSamplePeriod) : config_.run_cycle_limit;
+}
 
 void AvrCore::set_step_watch(StepWatch watch, void* context) {
     step_watch_ = watch;

@@ -96,6 +96,7 @@ struct FastForward::Loop {
     SkippedLoop info;
     uint16_t sp = 0;
     std::vector<uint32_t> pcs;
+    std::vector<uint16_t> sps;        ///< per step: SP before it
     std::vector<uint32_t> step_ends;  ///< per step: cycles from the anchor to its end
     /// Per step: the bytes it accessed through a pointer register (LD/ST X,
     /// Y, Z), checked again on the verification pass; other steps' addresses
@@ -122,7 +123,8 @@ FastForward::FastForward(AvrCore& core, const std::vector<ReplayableTimer>& repl
       mcu_(core.mcu()),
       replayable_(replayable),
       watchers_(watchers),
-      state_((mcu_.flash_bytes + 1) / 2, kUnknown) {
+      state_((mcu_.flash_bytes + 1) / 2, kUnknown),
+      path_(state_.size(), kUnknown) {
     for (avr_io_t* io : simavr_io_modules(avr_, "timer")) timers_.push_back(io);
     saved_data_.resize(static_cast<std::size_t>(avr_->ramend) + 1);
 }
@@ -144,18 +146,42 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
     if ((pc >> 1) >= state_.size()) return false;
     const int32_t st = slot(pc);
     if (st >= 0) return try_jump(loops_[static_cast<std::size_t>(st)]);
+    if (enter_learned_pass(halt_a, halt_b)) return true;
     if (st < kUnknown) {
         ++refused_[static_cast<std::size_t>(-2 - st)].visits;
         return false;
     }
     const uint16_t sp = core_.stack_pointer();
     bool seen = false;
-    for (unsigned i = 0; i < 8; ++i) seen = seen || (last_pc_[i] == pc && last_sp_[i] == sp);
+    for (unsigned i = 0; i < kHistory; ++i) seen = seen || (last_pc_[i] == pc && last_sp_[i] == sp);
     last_pc_[last_next_] = pc;
     last_sp_[last_next_] = sp;
-    last_next_ = (last_next_ + 1) % 8;
-    if (!seen || avr_->cycle < no_learning_before_) return false;
+    last_next_ = (last_next_ + 1) % kHistory;
+    // A PC on a learned pass is in a loop: learn it as an anchor of its own
+    // (the same loop, or another through the same code), so that later batch
+    // ends there jump at once.
+    if (!(seen || path_[pc >> 1] >= 0) || avr_->cycle < no_learning_before_) return false;
     return learn(pc, halt_a, halt_b);
+}
+
+bool FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
+    const int32_t on = path_[avr_->pc >> 1];
+    if (on < 0 || avr_->cycle < no_jump_before_) return false;
+    // Inside a learned pass, not at its anchor: on to the anchor, and jump there.
+    Loop& loop = loops_[static_cast<std::size_t>(on)];
+    switch (walk_to_anchor(loop, halt_a, halt_b)) {
+        case Walk::kArrived: (void)try_jump(loop); return true;
+        case Walk::kLeft: {
+            // Off this pass, perhaps onto another loop's anchor through the same code.
+            const int32_t st = slot(avr_->pc);
+            if (st >= 0 && avr_->state == cpu_Running && !halt_a && !halt_b) {
+                (void)try_jump(loops_[static_cast<std::size_t>(st)]);
+            }
+            return true;
+        }
+        case Walk::kNotOnPath: break;
+    }
+    return false;
 }
 
 bool FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
@@ -222,6 +248,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     loop.carried_flags = analysis.carried_flags;
     loop.info.pc_low = loop.info.pc_high = anchor;
     loop.span.min_sp = loop.span.max_sp = loop.sp;
+    loop.span.io_reads = analysis.io_reads;
     for (const RecordedStep& s : second) {
         if (s.access.mem_write) {
             for (unsigned i = 0; i < s.access.count; ++i) {
@@ -232,6 +259,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
         loop.span.min_sp = std::min(loop.span.min_sp, s.sp);
         loop.span.max_sp = std::max(loop.span.max_sp, s.sp);
         loop.pcs.push_back(s.pc);
+        loop.sps.push_back(s.sp);
         loop.step_ends.push_back(s.cycles_after);
         loop.accesses.push_back(s.access);
         const auto d = avr::decode_data_access(core_.flash_word(s.pc), 0);
@@ -240,6 +268,9 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
         loop.info.pc_high = std::max(loop.info.pc_high, s.pc);
     }
     slot(anchor) = static_cast<int32_t>(loops_.size());
+    for (uint32_t pc : loop.pcs) {
+        if (pc != anchor && path_[pc >> 1] == kUnknown) path_[pc >> 1] = static_cast<int32_t>(loops_.size());
+    }
     loops_.push_back(std::move(loop));
     for (Loop& l : loops_) l.span.pcs = &l.pcs;  // re-pointed after each growth of loops_
     return true;
@@ -421,9 +452,26 @@ bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held
 // to there, so the jumps close in on the change by bisection. A jump taken
 // back for an event a part's step scheduled inside it is tried again up to
 // that event (the steps already run stay run).
+FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b) {
+    const uint16_t sp = core_.stack_pointer();
+    std::size_t i = 1;
+    while (i < loop.pcs.size() && (loop.pcs[i] != avr_->pc || loop.sps[i] != sp)) ++i;
+    if (i == loop.pcs.size()) return Walk::kNotOnPath;
+    avr_->run_cycle_limit = 1;
+    for (; i < loop.pcs.size(); ++i) {
+        if (avr_->pc != loop.pcs[i] || !step_one() || halt_a || halt_b) break;
+    }
+    avr_->run_cycle_limit = core_.free_run_limit();
+    const bool arrived = i == loop.pcs.size() && avr_->state == cpu_Running && !halt_a && !halt_b &&
+                         avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp;
+    return arrived ? Walk::kArrived : Walk::kLeft;
+}
+
 bool FastForward::try_jump(Loop& loop) {
     if (avr_->cycle < no_jump_before_ || core_.stack_pointer() != loop.sp) return false;
-    if (avr_->interrupt_state != 0 || avr_has_pending_interrupts(avr_) != 0) return false;
+    // interrupt_state < 0: the I flag was just set (the instruction after SEI
+    // or OUT SREG runs first); with nothing pending that is part of the pass.
+    if (avr_->interrupt_state > 0 || avr_has_pending_interrupts(avr_) != 0) return false;
     constexpr Cycles kNoChangeSeen = std::numeric_limits<Cycles>::max();
     Cycles changes_by = kNoChangeSeen;  // the path is seen to change by then
     bool ran = false;

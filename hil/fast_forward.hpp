@@ -3,8 +3,10 @@
 // (delay(), while (millis() < t), a poll of a flag an event sets), inside
 // AvrCore's stepping loop, so every front end gets it.
 //
-// Detect: at the end of each instruction batch, a PC seen twice with the
-// same SP is a candidate anchor. Two passes from it are stepped and
+// Detect: at the end of each instruction batch (at each cycle timer, and at
+// least every kSamplePeriod cycles while fast-forward is on), a PC seen
+// twice with the same SP in the last kHistory batch ends is a candidate
+// anchor; a batch end inside a learned pass steps on along it to its anchor. Two passes from it are stepped and
 // recorded (hil/loop_pass.hpp); they must follow the same instruction path
 // in the same cycles, touch only I/O whose reads have no side effects
 // (plain registers, TCNTn, PINx) and write no I/O but SREG, and leave every
@@ -15,7 +17,8 @@
 // may change what the loop reads or be observed (a timer that raises an
 // interrupt, a UART/TWI/ADC/EEPROM completion, the plant's pin events, a
 // run's target or stop) bounds the jump; timers that only set the flag of a
-// disabled interrupt (Timer1/Timer2 overflows in simavr 1.6), of a timer the
+// disabled interrupt (Timer1/Timer2 in the Arduino core's phase-correct mode:
+// hil/phase_correct_timer.hpp), of a timer the
 // loop does not read, are held back and replayed in order after it, and the
 // parts' steps that may run inside a jump (ReplayableTimer::kAtOwnCycle: the
 // plant coupler's) run at their own cycles once it is verified. The state is
@@ -28,6 +31,7 @@
 // profilers, the race detector inside an ISR) or gdb serves the run: the
 // caller switches it off. Not thread-safe (one per AvrCore).
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -60,6 +64,10 @@ struct LoopSpan {
     /// and SP are not SRAM).
     uint16_t lowest_sram_write = 0xFFFF;
     const std::vector<uint32_t>* pcs = nullptr;  ///< the PCs of a pass, in order
+    std::vector<uint16_t> io_reads;  ///< the I/O data addresses a pass reads (sorted, unique)
+    [[nodiscard]] bool reads(uint16_t address) const {
+        return std::binary_search(io_reads.begin(), io_reads.end(), address);
+    }
     /// True if a pass writes no SRAM byte below its own stack (no global,
     /// no heap): what a part reads of the firmware's globals is the same at
     /// every cycle of the skipped passes.
@@ -130,6 +138,9 @@ public:
     /// turns true (the run's target reached, a stop requested) or the CPU
     /// leaves the running state. Returns true if it ran anything.
     bool after_batch(const bool& halt_a, const bool& halt_b);
+    /// The longest instruction batch while fast-forward is on [cycles]: a
+    /// loop's PCs come up at batch ends often enough to be found.
+    static constexpr Cycles kSamplePeriod = 256;
 
     [[nodiscard]] FastForwardStats stats() const;
 
@@ -143,6 +154,9 @@ private:
     std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
     struct Held;
     bool try_jump(Loop& loop);
+    bool enter_learned_pass(const bool& halt_a, const bool& halt_b);
+    enum class Walk { kNotOnPath, kLeft, kArrived };
+    Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b);
     enum class Jump { kTooShort, kMismatch, kTakenBack, kStopDeferred, kSkipped };
     Jump jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by);
     bool verify_pass(const Loop& loop);
@@ -168,11 +182,13 @@ private:
     const std::vector<ReplayableTimer>& replayable_;
     const std::unordered_map<uint16_t, IoWatchers>& watchers_;
     std::vector<int32_t> state_;  ///< per flash word: kUnknown, loop index, or -2 - refusal index
+    std::vector<int32_t> path_;   ///< per flash word: a loop whose pass runs through it (not its anchor), or kUnknown
     std::vector<Loop> loops_;
     std::vector<RefusedLoop> refused_;
     std::vector<void*> timers_;  ///< simavr's timer modules (their cycle timers' parameter)
-    uint32_t last_pc_[8] = {};
-    uint16_t last_sp_[8] = {};
+    static constexpr unsigned kHistory = 32;  ///< batch-end PCs kept to find one that comes back
+    uint32_t last_pc_[kHistory] = {};
+    uint16_t last_sp_[kHistory] = {};
     unsigned last_next_ = 0;
     Cycles no_learning_before_ = 0;
     Cycles no_jump_before_ = 0;

@@ -10,38 +10,13 @@
 
 #include "hil/avr_timers.hpp"
 #include "hil/pin_probe.hpp"
+#include "hil/timer_registers.hpp"
 
 namespace ddmr::hil {
 namespace {
 
 using atmega328p::bit_set;
-
-/// CSn2:0 in TCCRnB: 0 stops the timer's clock (every timer here).
-constexpr unsigned kClockSelectMask = 0x07;
-
-uint16_t read16(const AvrCore& core, uint16_t low, uint16_t high) {
-    if (low == 0) return 0;
-    uint16_t v = core.data(low);
-    if (high != 0) v = static_cast<uint16_t>(v | (core.data(high) << 8));
-    return v;
-}
-
-TimerRegisters read_timer(const AvrCore& core, const TimerDesc& d) {
-    TimerRegisters r;
-    r.tccra = core.data(d.tccra);
-    r.tccrb = core.data(d.tccrb);
-    r.ocra = read16(core, d.ocra_low, d.ocra_high);
-    r.ocrb = read16(core, d.ocrb_low, d.ocrb_high);
-    r.ocrc = read16(core, d.ocrc_low, d.ocrc_high);
-    r.icr = read16(core, d.icr_low, d.icr_high);
-    r.tcnt = read16(core, d.tcnt_low, d.tcnt_high);
-    return r;
-}
-
-bool same(const TimerRegisters& a, const TimerRegisters& b) {
-    return a.tccra == b.tccra && a.tccrb == b.tccrb && a.ocra == b.ocra && a.ocrb == b.ocrb && a.ocrc == b.ocrc &&
-           a.icr == b.icr;
-}
+using atmega328p::kClockSelectMask;  // CSn2:0 in TCCRnB (every timer here)
 
 }  // namespace
 
@@ -75,7 +50,7 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
                                  d.ocrc_high, d.icr_low, d.icr_high}) {
             if (a != 0) watch(a, &timer_hook_[t]);
         }
-        last_regs_[t] = read_timer(core_, d);
+        last_regs_[t] = read_timer_registers(core_, d);
         if ((last_regs_[t].tccrb & kClockSelectMask) != 0) {
             // Watched from a running timer on (a query mid-run): its OCR
             // buffers are already in effect on the chip. Take them as a
@@ -120,8 +95,8 @@ void PinWaveforms::note_change(Cycles cycle) {
 }
 
 void PinWaveforms::sample_timer(std::size_t t) {
-    const TimerRegisters r = read_timer(core_, timers_[t]);
-    if (same(r, last_regs_[t])) return;  // simavr also notifies reads
+    const TimerRegisters r = read_timer_registers(core_, timers_[t]);
+    if (same_settings(r, last_regs_[t])) return;  // simavr also notifies reads
     last_regs_[t] = r;
     ++revision_;
     TimerOutputDecoder& d = *timer_[t];

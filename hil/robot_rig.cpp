@@ -55,6 +55,7 @@ RobotRig::RobotRig(const ElfImage& elf, const RigConfig& config)
       uart_(core_, host_usart(core_, config), config.uart_timing),
       eeprom_(core_),
       eeprom_timing_(core_, config.eeprom_timing),
+      timers_(core_),
       robot_(at_start(wired(config.plant, config.board), config_.world)),
       parts_(core_, config.board.parts, PartRegistry::global(), [this] { return robot_.pose(); }, &config_.world),
       world_truth_(config_.world, robot_),

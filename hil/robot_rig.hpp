@@ -5,6 +5,7 @@
 //   UartLink          the host's USART (Serial = USART0, or config.host_usart) <-> host (case bytes in, report out)
 //   EepromPort        EEPROM contents (preload, read back)
 //   EepromWriteTiming EEPE held for the datasheet write time (or simavr's instant writes)
+//   PhaseCorrectTimers the timers' phase-correct PWM modes simavr 1.6 lacks, with the datasheet's flags and TCNT
 //   MotorDriverReader pin waveforms + driver truth tables => bridge state (pins per BoardWiring)
 //   plant::Robot      motors, driver, battery, encoders, kinematics
 //   PlantCoupler      steps the plant in lockstep, one step ahead of the AVR
@@ -27,6 +28,7 @@
 #include "hil/encoder_injector.hpp"
 #include "hil/firmware_variables.hpp"
 #include "hil/motor_driver_reader.hpp"
+#include "hil/phase_correct_timer.hpp"
 #include "hil/plant_coupler.hpp"
 #include "hil/parts/part_set.hpp"
 #include "hil/world_truth.hpp"
@@ -65,6 +67,7 @@ public:
     UartLink& uart() { return uart_; }
     EepromPort& eeprom() { return eeprom_; }
     EepromWriteTiming& eeprom_timing() { return eeprom_timing_; }
+    const PhaseCorrectTimers& timers() const { return timers_; }
     MotorDriverReader& driver() { return driver_; }
     /// The run's warnings so far: the wiring's (MotorDriverReader::wiring_warnings), then the parts'.
     [[nodiscard]] std::vector<std::string> warnings() const;
@@ -92,6 +95,7 @@ private:
     UartLink uart_;
     EepromPort eeprom_;
     EepromWriteTiming eeprom_timing_;
+    PhaseCorrectTimers timers_;
     plant::Robot robot_;  ///< at the world's start before the parts, which read its pose when built
     PartSet parts_;       ///< before the driver, which reads their outputs
     WorldTruth world_truth_;

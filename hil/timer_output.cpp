@@ -327,6 +327,25 @@ Cycles TimerOutputDecoder::next_match_after(const Matches& m, Cycles cycle) cons
     return next;
 }
 
+Cycles TimerOutputDecoder::next_position_after(Cycles pos, Cycles cycle) const {
+    if (!ticking()) return kNever;
+    return next_at_or_after(pos, std::max(cycle + 1, regime_start_));
+}
+
+Cycles TimerOutputDecoder::next_bottom_after(Cycles cycle) const { return next_position_after(0, cycle); }
+
+Cycles TimerOutputDecoder::next_top_after(Cycles cycle) const {
+    return next_position_after(top_ * prescaler_, cycle);
+}
+
+Cycles TimerOutputDecoder::next_compare_match_after(int ch, Cycles cycle) const {
+    if (!ticking()) return kNever;
+    const Matches m = matches_of(ch);
+    Cycles next = kNever;
+    for (std::size_t i = 0; i < m.n; ++i) next = std::min(next, next_position_after(m.pos[i], cycle));
+    return next;
+}
+
 bool TimerOutputDecoder::level_at(int ch, Cycles cycle) const {
     const Channel& h = chan(ch);
     const Action a = action(ch);

@@ -125,6 +125,24 @@ public:
     }
     /// When the next pending buffered update takes effect, or kNever.
     [[nodiscard]] Cycles pending_update_cycle() const { return pending_cycle_; }
+    /// The waveform generation mode's row (kind, TOP source).
+    [[nodiscard]] const WaveformMode& mode() const { return mode_; }
+
+    // The counter's events, for the timer's flags (PhaseCorrectTimer). Each
+    // is the first cycle strictly after `cycle` at which the count reaches
+    // the value, assuming no register change in between (see
+    // pending_update_cycle); kNever while the count does not move.
+    /// The count reaches BOTTOM (0).
+    [[nodiscard]] Cycles next_bottom_after(Cycles cycle) const;
+    /// The count reaches TOP.
+    [[nodiscard]] Cycles next_top_after(Cycles cycle) const;
+    /// The count reaches OCRnx in effect of channel `ch`: counting up and
+    /// (dual slope) down; once a period if OCR is 0 or TOP; never if OCR > TOP.
+    [[nodiscard]] Cycles next_compare_match_after(int ch, Cycles cycle) const;
+    /// TCNTn during `cycle` (cycle >= the last on_write/advance_to cycle).
+    [[nodiscard]] uint16_t count_value_at(Cycles cycle) const {
+        return static_cast<uint16_t>(count_at(cycle).value);
+    }
 
 private:
     /// The counter: value, direction and cycles already spent in this count.
@@ -189,6 +207,7 @@ private:
     [[nodiscard]] Cycles matches_through(const Matches& m, Cycles cycle) const;
     [[nodiscard]] Cycles next_at_or_after(Cycles pos, Cycles cycle) const;
     [[nodiscard]] Cycles next_match_after(const Matches& m, Cycles cycle) const;
+    [[nodiscard]] Cycles next_position_after(Cycles pos, Cycles cycle) const;
     [[nodiscard]] Cycles next_change_in_regime(int ch, Action a, Cycles cycle) const;
     [[nodiscard]] Cycles next_fast_edge(const Channel& h, Cycles cycle) const;
     [[nodiscard]] Cycles next_phase_edge(const Channel& h, Cycles cycle) const;
