@@ -154,9 +154,13 @@ void PhaseCorrectTimer::reschedule(Cycles now) {
 }
 
 Cycles PhaseCorrectTimer::next_event_after(Cycles cycle) const {
-    Cycles next = std::min(decoder_.next_bottom_after(cycle), decoder_.pending_update_cycle());
+    // TOP is an event even where it raises no flag: between two events the
+    // count then only rises or only falls, so a fast-forward jump bounded by
+    // them cannot carry a loop that polls TCNTn past the value it waits for
+    // (its verification pass checks only the jump's end).
+    Cycles next = std::min({decoder_.next_bottom_after(cycle), decoder_.next_top_after(cycle),
+                            decoder_.pending_update_cycle()});
     for (int ch = 0; ch < desc_.channels; ++ch) next = std::min(next, decoder_.next_compare_match_after(ch, cycle));
-    if (decoder_.mode().top_source == TopSource::kIcr) next = std::min(next, decoder_.next_top_after(cycle));
     return next;
 }
 
@@ -164,8 +168,11 @@ uint64_t PhaseCorrectTimer::on_event(avr_t* /*avr*/, uint64_t when, void* param)
     // `when` is the event's own cycle (after a fast-forward jump the clock is
     // already past it): everything here is computed from it.
     auto* self = static_cast<PhaseCorrectTimer*>(param);
-    (void)self->decoder_.advance_to(when);
+    // The flags first, from the values in effect up to `when`: a new OCRnA
+    // or ICR1 taking effect at this TOP moves TOP, but the flag of the TOP
+    // reached now is set (7810D §15.9.4).
     self->raise_due(when);
+    (void)self->decoder_.advance_to(when);
     const Cycles next = self->next_event_after(when);
     return next == TimerOutputDecoder::kNever ? 0 : next;
 }

@@ -34,7 +34,10 @@
 //   - TCNTn reads as the 0..TOP..0 triangle.
 // The counting and OCR double-buffering (updated at TOP) come from
 // TimerOutputDecoder (hil/timer_output.hpp), the model the PWM pins use, so a
-// flag and its pin's edge fall on the same cycle. A flag is set on the cycle
+// flag and its pin's edge fall on the same cycle (until a TCNTn write, which
+// PinWaveforms does not follow). Not modelled: input capture in these modes
+// (simavr's ICP handler still runs, on its stale count) and TCNTn reads while
+// the timer is stopped (simavr's: 0). A flag is set on the cycle
 // the count reaches the value. In every other mode simavr runs the timer as
 // before. Phase and frequency correct modes (Timer1 WGM 8, 9) are in simavr's
 // table, with single-slope timing: not taken over.

@@ -24,6 +24,7 @@ namespace {
 // ATmega328P vector numbers (datasheet Table 11-1).
 constexpr int kTimer2CompA = 7, kTimer2CompB = 8, kTimer2Ovf = 9;
 constexpr int kTimer1Capt = 10, kTimer1CompA = 11, kTimer1CompB = 12, kTimer1Ovf = 13;
+constexpr int kTimer0Ovf = 16;
 
 /// Raise cycles per vector, from simavr's PENDING IRQ.
 struct Raises {
@@ -148,15 +149,24 @@ TEST(PhaseCorrectTimer, Timer1Mode10TakesTopFromIcr1) {
 }
 
 TEST(PhaseCorrectTimer, LeavesTheModesSimavrRunsToSimavr) {
-    // Timer0 in fast PWM (mode 3) and the timers the fixture never starts:
-    // nothing taken over. WGM 1 of each timer is a mode simavr lacks.
-    Fixture f("pc_timer_t2_mode1");
-    f.core.run_until(1'000);
-    EXPECT_FALSE(f.timers.timer(0).active());
-    EXPECT_FALSE(f.timers.timer(1).active());
-    EXPECT_FALSE(f.timers.timer(0).takes_over(3));
-    EXPECT_FALSE(f.timers.timer(1).takes_over(8));  // PFC: in simavr's table
-    for (std::size_t n = 0; n < 3; ++n) EXPECT_TRUE(f.timers.timer(n).takes_over(1)) << n;
+    // The reference firmware after the Arduino core's init(): Timer0 in fast
+    // PWM (mode 3, in simavr's table) stays simavr's, its overflow every
+    // 256 * 64 = 16,384 cycles as before; Timer1 and Timer2 in WGM 1 are
+    // taken over.
+    const ElfImage elf = ElfImage::read(test::firmware_elf());
+    AvrCore core(elf);
+    PhaseCorrectTimers timers(core);
+    Raises r(core.raw(), {kTimer0Ovf});
+    core.run_until(100'000);
+    EXPECT_FALSE(timers.timer(0).active());
+    EXPECT_TRUE(timers.timer(1).active());
+    EXPECT_TRUE(timers.timer(2).active());
+    const std::size_t before = r.at[kTimer0Ovf].size();
+    core.run_until(100'000 + 100 * 16'384);
+    EXPECT_NEAR(static_cast<double>(r.at[kTimer0Ovf].size() - before), 100.0, 1.0);
+    EXPECT_FALSE(timers.timer(0).takes_over(3));
+    EXPECT_FALSE(timers.timer(1).takes_over(8));  // PFC: in simavr's table
+    for (std::size_t n = 0; n < 3; ++n) EXPECT_TRUE(timers.timer(n).takes_over(1)) << n;
 }
 
 }  // namespace
