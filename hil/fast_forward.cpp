@@ -446,12 +446,8 @@ bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held
     return bound(loop) > end;
 }
 
-// Jumps as far as the loop's path holds. A verification pass that leaves
-// the path (delay() counting down one more millisecond) shows that the
-// path changes by its end: the next attempt aims at half the distance
-// to there, so the jumps close in on the change by bisection. A jump taken
-// back for an event a part's step scheduled inside it is tried again up to
-// that event (the steps already run stay run).
+// Steps from a PC of the pass (with its SP) on along the pass to the anchor;
+// stops where the run leaves it (a branch taken otherwise, an interrupt).
 FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b) {
     const uint16_t sp = core_.stack_pointer();
     std::size_t i = 1;
@@ -467,6 +463,12 @@ FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt
     return arrived ? Walk::kArrived : Walk::kLeft;
 }
 
+// Jumps as far as the loop's path holds. A verification pass that leaves
+// the path (delay() counting down one more millisecond) shows that the
+// path changes by its end: the next attempt aims at half the distance
+// to there, so the jumps close in on the change by bisection. A jump taken
+// back for an event a part's step scheduled inside it is tried again up to
+// that event (the steps already run stay run).
 bool FastForward::try_jump(Loop& loop) {
     if (avr_->cycle < no_jump_before_ || core_.stack_pointer() != loop.sp) return false;
     // interrupt_state < 0: the I flag was just set (the instruction after SEI
