@@ -297,9 +297,9 @@ RunStop AvrCore::run_until(Cycles target) {
             const int state = avr_run(avr);
             if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // the next instruction, on every path
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
-            if (fast_forward_ && step_watch_ == nullptr && fast_forward_->after_batch(flag.reached, stop_requested_) &&
-                step_watch_ != nullptr) {
-                step_watch_(step_watch_context_);  // an interrupt it stepped into switched the watch on
+            if (fast_forward_ && step_watch_ == nullptr && fast_forward_->after_batch(flag.reached, stop_requested_)) {
+                if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // an interrupt it stepped into switched the watch on
+                if (event_pending()) break;  // it stopped stepping for it
             }
         }
     }

@@ -198,6 +198,12 @@ public:
     /// which an interrupt entry may have switched a watch on).
     Cycles free_run_limit() const;
 
+    /// True if a watchdog reset is pending or simavr logged a new error: the
+    /// run must stop stepping and return (run_until takes the event). simavr's
+    /// watchdog swaps its run callback for one that resets the chip without
+    /// the parts: stepping on would run it (FastForward checks this too).
+    bool event_pending() const;
+
     /// A 16-bit word of flash at a byte address (little-endian, as fetched).
     uint16_t flash_word(uint32_t byte_address) const;
 
@@ -244,8 +250,6 @@ private:
     uint64_t hard_errors_seen_ = 0;
     /// simavr's instruction loop; its watchdog swaps in a reset callback.
     void (*normal_run_)(avr_t*) = nullptr;
-    /// True if a watchdog reset is pending or simavr logged a new error.
-    bool event_pending() const;
     /// Handles what event_pending() saw: kWatchdogReset or kSimavrError.
     RunStop take_event();
     void apply_setup();

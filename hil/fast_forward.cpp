@@ -340,7 +340,8 @@ Cycles FastForward::bound(const Loop& loop) const {
 bool FastForward::step_one() {
     avr_->run_cycle_count = 1;
     avr_run(avr_);
-    return avr_->state == cpu_Running;
+    // A watchdog reset (simavr swapped its run callback) is AvrCore's to take.
+    return avr_->state == cpu_Running && !core_.event_pending();
 }
 
 bool FastForward::verify_pass(const Loop& loop) {
@@ -383,13 +384,23 @@ std::vector<FastForward::Held> FastForward::hold_timers(const Loop& loop, Cycles
     return held;
 }
 
-void FastForward::release(const std::vector<Held>& held) {
+void FastForward::release(const Loop& loop, const std::vector<Held>& held, Cycles now) {
     // Registered again at their own cycles (a delta past now wraps to the
-    // same absolute cycle), in order; those already due run now, in order.
+    // same absolute cycle), in order. Those the jump passed run now, in
+    // order, each with the clock where executing the passes would have run
+    // it: the end of the instruction that reached its cycle (a flag raised
+    // there is stamped with it: IsrMonitor::pending_since).
     for (const Held& h : held) {
         if (h.when != 0) avr_cycle_timer_register(avr_, h.when - avr_->cycle, h.fn, h.param);
     }
-    avr_cycle_timer_process(avr_);
+    const Cycles end = avr_->cycle;
+    for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr && t->when <= end;
+         t = avr_->cycle_timers.timer) {
+        avr_->cycle = fires_at(loop, now, t->when);
+        avr_cycle_timer_process(avr_);
+    }
+    avr_->cycle = end;
+    avr_cycle_timer_process(avr_);  // sets simavr's next batch length
 }
 
 FastForward::Snapshot FastForward::snapshot() {
@@ -518,7 +529,7 @@ FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cyc
         loop.info.cycles_skipped += k * pass;
         cycles_skipped_ += k * pass;
     }
-    release(held);
+    release(loop, held, now);
     if (stop_at != 0) core_.stop_after(stop_at - now);
     return outcome;
 }

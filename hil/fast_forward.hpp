@@ -167,7 +167,7 @@ private:
     std::vector<Held> hold_timers(const Loop& loop, Cycles end);
     bool run_own_cycle_timers(const Loop& loop, std::vector<Held>& held, Cycles now, Cycles end, Cycles& stop_at);
     static Cycles fires_at(const Loop& loop, Cycles now, Cycles when);
-    void release(const std::vector<Held>& held);
+    void release(const Loop& loop, const std::vector<Held>& held, Cycles now);
     Cycles bound(const Loop& loop) const;
     /// How a pending cycle timer stands to a jump over the loop's passes.
     enum class Defer { kNo, kReplay, kAtOwnCycle };

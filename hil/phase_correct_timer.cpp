@@ -33,7 +33,9 @@ avr_timer_t* simavr_timer(avr_t* avr, int index) {
 PhaseCorrectTimer::PhaseCorrectTimer(AvrCore& core, const TimerDesc& desc)
     : core_(core), desc_(desc), sim_(simavr_timer(core.raw(), desc.index)), decoder_(desc) {
     // Low bytes only: the chip moves a 16-bit value in with its low byte.
-    const uint16_t watched[] = {desc.tccra, desc.tccrb, desc.ocra_low, desc.ocrb_low, desc.ocrc_low, desc.icr_low};
+    // ASSR (Timer2): AS2 clocks the timer from the TOSC pins, not the prescaler.
+    const uint16_t watched[] = {desc.tccra,    desc.tccrb,   desc.ocra_low,  desc.ocrb_low,
+                                desc.ocrc_low, desc.icr_low, static_cast<uint16_t>(sim_->as2.reg)};
     std::size_t n = 0;
     for (uint16_t a : watched) {
         if (a == 0 || n == std::size(watched_)) continue;
@@ -114,9 +116,13 @@ void PhaseCorrectTimer::sample(bool tcnt_written) {
     const Cycles now = core_.cycle();
     const TimerRegisters r = read_timer_registers(core_, desc_);
     if (!tcnt_written && same_settings(r, last_)) {
-        // A read (simavr notifies those too) or the same value again, which
-        // in these modes makes simavr arm its own timers again.
-        if (active_) cancel_simavr_timers();
+        // A read (simavr notifies those too), the same value again (which
+        // in these modes makes simavr arm its own timers again), or ASSR.
+        if (active_ != should_take_over()) {
+            take_or_leave(now);
+        } else if (active_) {
+            cancel_simavr_timers();
+        }
         return;
     }
     last_ = r;
@@ -124,8 +130,12 @@ void PhaseCorrectTimer::sample(bool tcnt_written) {
     take_or_leave(now);
 }
 
+bool PhaseCorrectTimer::should_take_over() const {
+    return takes_over(decoder_.wgm()) && decoder_.running() && !clocked_externally();
+}
+
 void PhaseCorrectTimer::take_or_leave(Cycles now) {
-    active_ = takes_over(decoder_.wgm()) && decoder_.running() && !clocked_externally();
+    active_ = should_take_over();
     if (active_) cancel_simavr_timers();
     reschedule(now);
 }

@@ -103,6 +103,7 @@ private:
     void raise_due(Cycles when);
     [[nodiscard]] Cycles next_event_after(Cycles cycle) const;
     [[nodiscard]] bool clocked_externally() const;
+    [[nodiscard]] bool should_take_over() const;
     [[nodiscard]] bool any_interrupt_enabled() const;
     [[nodiscard]] bool may_replay(const LoopSpan& span) const;
     void reset();
@@ -113,7 +114,7 @@ private:
     TimerOutputDecoder decoder_;
     TimerRegisters last_{};
     bool active_ = false;
-    uint16_t watched_[6] = {};  ///< the registers watched (0: none)
+    uint16_t watched_[7] = {};  ///< the registers watched (0: none)
     IoRead simavr_read_ = nullptr;
     void* simavr_read_param_ = nullptr;
     IoWrite simavr_write_ = nullptr;

@@ -14,6 +14,19 @@
  *     drive_fixture.c); polls PIND bit 2 (encoder 1) for 20 edges.
  *   FF_UDR_POLL: polls UCSR0A's RXC0 for bytes from the host and echoes
  *     each with its time.
+ *   FF_WATCHDOG: prints MCUSR, enables the watchdog (15 ms) and never
+ *     resets it: the chip resets about every 16 ms, inside the wait loop
+ *     after "done" (a reset that comes while fast-forward steps must be
+ *     the core's, as without it).
+ *   FF_LATE_ENABLE: Timer2 in the Arduino core's phase-correct mode (WGM
+ *     1, clk/64) with its overflow interrupt off sets TOV2 every 32,640
+ *     cycles inside waits fast-forward skips; the interrupt is then
+ *     enabled and entered at once, its latency counted from the raise.
+ *   FF_TCNT2_POLL: Timer2 in phase-correct PWM at clk/64 (counting
+ *     0..TOP..0, hil/phase_correct_timer.hpp), interrupts off; polls TCNT2
+ *     up past one value and down past another, three times each in WGM 1
+ *     (TOP 0xFF), in WGM 5 with OCR2A = 150 as TOP, and after OCR2A = 90
+ *     (a new TOP, taken at the next TOP).
  * Each prints one line per event, with us() at it, then "done". */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -110,8 +123,49 @@ static void run(void) {
         event("byte", UDR0);
     }
 }
+#elif defined(FF_WATCHDOG)
+#include <avr/wdt.h>
+static void run(void) {
+    event("mcusr", MCUSR);
+    MCUSR = 0;
+    wdt_enable(WDTO_15MS);
+}
+#elif defined(FF_LATE_ENABLE)
+static volatile uint8_t t2_overflows;
+ISR(TIMER2_OVF_vect) {
+    ++t2_overflows;
+    TIMSK2 = 0;
+}
+static void run(void) {
+    TCCR2A = _BV(WGM20); /* phase-correct PWM, TOP 0xFF (as the core's init()) */
+    TCCR2B = _BV(CS22);  /* clk/64: one overflow per 32,640 cycles */
+    for (uint8_t i = 0; i < 6; ++i) {
+        wait_us(3000U + 777U * i);
+        TIMSK2 = _BV(TOIE2);
+        event("t2", t2_overflows);
+    }
+}
+#elif defined(FF_TCNT2_POLL)
+static void poll_count(uint8_t high, uint8_t low) {
+    while (TCNT2 < high) {
+    }
+    event("up", TCNT2);
+    while (TCNT2 > low) {
+    }
+    event("down", TCNT2);
+}
+static void run(void) {
+    TCCR2A = _BV(WGM20);
+    TCCR2B = _BV(CS22);
+    for (uint8_t i = 0; i < 3; ++i) poll_count(200, 50);
+    OCR2A = 150;
+    TCCR2B = _BV(WGM22) | _BV(CS22);
+    for (uint8_t i = 0; i < 3; ++i) poll_count(140, 20);
+    OCR2A = 90;
+    for (uint8_t i = 0; i < 3; ++i) poll_count(80, 20);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL"
 #endif
 
 int main(void) {

@@ -40,6 +40,21 @@ struct Twin {
     Bytes bytes;
 };
 
+/// Every interrupt's raise, entry and exit cycle, and the summary, the same both ways.
+void expect_same_isr_timing(Session& on, Session& off, const std::string& fixture) {
+    const std::vector<IsrEvent>& a = on.isr_monitor()->events();
+    const std::vector<IsrEvent>& b = off.isr_monitor()->events();
+    ASSERT_EQ(a.size(), b.size()) << fixture;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const bool same = a[i].vector == b[i].vector && a[i].raise_cycle == b[i].raise_cycle &&
+                          a[i].entry_cycle == b[i].entry_cycle && a[i].exit_cycle == b[i].exit_cycle;
+        ASSERT_TRUE(same) << fixture << ": interrupt " << i << " (vector " << b[i].vector << ", entered at "
+                          << b[i].entry_cycle << ") raised at " << a[i].raise_cycle.value_or(0)
+                          << " with fast-forward, " << b[i].raise_cycle.value_or(0) << " without";
+    }
+    EXPECT_EQ(to_markdown(on.isr_monitor()->summary()), to_markdown(off.isr_monitor()->summary())) << fixture;
+}
+
 /// Runs `elf` both ways to each of `stops` and compares the whole machine.
 FastForwardStats expect_identical_states(const std::string& fixture, const std::vector<Cycles>& stops) {
     const ElfImage elf = ElfImage::read(test::test_firmware_dir() / (fixture + ".elf"));
@@ -62,7 +77,12 @@ FastForwardStats expect_identical_states(const std::string& fixture, const std::
             }
         }
         EXPECT_EQ(on.bytes.text, off.bytes.text) << fixture << " at " << stop;
+        for (int v = 1; v < static_cast<int>(on.session.core().mcu().vector_count()); ++v) {
+            EXPECT_EQ(on.session.isr_monitor()->pending_since(v), off.session.isr_monitor()->pending_since(v))
+                << fixture << ": vector " << v << "'s raise at " << stop;
+        }
     }
+    expect_same_isr_timing(on.session, off.session, fixture);
     EXPECT_EQ(off.session.core().fast_forward(), nullptr);
     return on.session.core().fast_forward()->stats();
 }
@@ -145,6 +165,60 @@ TEST(FastForward, AStopAStepInsideASkipAsksForComesAtItsOwnCycle) {
             << t;
     }
     EXPECT_GT(on.session.core().fast_forward()->stats().taken_back, 0U);
+}
+
+TEST(FastForward, AFlagRaisedInsideASkipIsStampedAtItsOwnCycle) {
+    // FF_LATE_ENABLE: TOV2 (phase-correct Timer2, its interrupt off) is
+    // raised inside skipped waits and replayed after each jump: the cycle
+    // IsrMonitor stamps the raise with (pending_since) must be the one
+    // executing gives, and the interrupt enabled later is entered (simavr
+    // 1.6 at the next raise) with the same latency.
+    const FastForwardStats s = expect_identical_states("ff_late_enable", every(61'001, 1'000'000));
+    EXPECT_GT(s.cycles_skipped, 0U);
+}
+
+TEST(FastForward, PollsTheCountOfAPhaseCorrectTimerExactly) {
+    // FF_TCNT2_POLL: `while (TCNT2 < high) {}` and `while (TCNT2 > low) {}`
+    // on Timer2 counting 0..TOP..0 (PhaseCorrectTimer), with TOP 0xFF, then
+    // OCR2A as TOP, then a new OCR2A: each exit at the same cycle, with the
+    // same count, both ways.
+    const FastForwardStats s = expect_identical_states("ff_tcnt2_poll", every(97'007, 5'200'000));
+    EXPECT_GT(s.cycles_skipped, 0U);
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / "ff_tcnt2_poll.elf");
+    Twin on(elf, true);
+    ASSERT_EQ(on.session.run(5'200'000), SessionStop::kReachedCycle);
+    EXPECT_NE(on.bytes.text.find("done"), std::string::npos) << on.bytes.text;  // all nine polls ended
+}
+
+TEST(FastForward, AWatchdogResetWhileItStepsIsTheCoresReset) {
+    // FF_WATCHDOG: the watchdog resets the chip about every 16 ms inside a
+    // wait loop fast-forward learns, walks and skips. Each reset must come
+    // at the same cycle both ways and go through AvrCore::reset (the run's
+    // parts re-armed, the run's own target kept).
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / "ff_watchdog.elf");
+    Twin on(elf, true);
+    Twin off(elf, false);
+    const Cycles end = 8'000'000;
+    std::vector<Cycles> resets[2];
+    for (int n = 0; n < 2; ++n) {
+        AvrCore& core = (n == 0 ? on : off).session.core();
+        while (core.cycle() < end) {
+            const RunStop stop = core.run_until(end);
+            if (stop == RunStop::kWatchdogReset) {
+                resets[n].push_back(core.cycle());
+            } else {
+                ASSERT_EQ(stop, RunStop::kReachedCycle);
+            }
+        }
+    }
+    EXPECT_EQ(resets[0], resets[1]);
+    EXPECT_GT(resets[1].size(), 20U);
+    EXPECT_EQ(on.session.core().watchdog_resets(), resets[0].size());
+    EXPECT_EQ(on.bytes.text, off.bytes.text);
+    EXPECT_EQ(std::memcmp(on.session.core().raw()->data, off.session.core().raw()->data,
+                          static_cast<std::size_t>(on.session.core().raw()->ramend) + 1),
+              0);
+    EXPECT_GT(on.session.core().fast_forward()->stats().cycles_skipped, 0U);
 }
 
 TEST(FastForward, GdbTurnsItOff) {

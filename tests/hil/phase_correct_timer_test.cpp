@@ -148,6 +148,45 @@ TEST(PhaseCorrectTimer, Timer1Mode10TakesTopFromIcr1) {
     }
 }
 
+/// The intervals between the raises of `vector` inside [from, to).
+std::vector<Cycles> intervals(Raises& r, int vector, Cycles from, Cycles to) {
+    std::vector<Cycles> in;
+    for (Cycles c : r.at[vector]) {
+        if (c >= from && c < to) in.push_back(c);
+    }
+    std::vector<Cycles> out;
+    for (std::size_t i = 1; i < in.size(); ++i) out.push_back(in[i] - in[i - 1]);
+    return out;
+}
+
+TEST(PhaseCorrectTimer, HandsTheTimerBackAndTakesItAgainAsTheModeChanges) {
+    // PC_T2_CHANGES: Timer2 at clk/64, OCR2A = 99: WGM 1 (taken over: TOV2
+    // every 32,640 cycles, OCF2A 99 * 64 = 6,336 after BOTTOM and 6,336
+    // before the next), CTC (simavr's: OCF2A every 100 * 64 = 6,400; simavr
+    // 1.6 also raises TOV2 there, which the chip does not: not this part's),
+    // WGM 1 again (taken over again), then ASSR.AS2 (simavr's).
+    Fixture f("pc_timer_t2_changes");
+    Raises r(f.core.raw(), {kTimer2Ovf, kTimer2CompA});
+    std::vector<Cycles> changes;  // when active() changed, to a 100-cycle step
+    bool active = false;
+    for (Cycles c = 100; c <= 600'000; c += 100) {
+        f.core.run_until(c);
+        if (f.timers.timer(2).active() != active) {
+            active = !active;
+            changes.push_back(c);
+        }
+    }
+    ASSERT_EQ(changes.size(), 4U);  // on, off (CTC), on, off (AS2)
+    const std::vector<Cycles> ovf = r.at[kTimer2Ovf];
+    ASSERT_FALSE(ovf.empty());
+    EXPECT_EQ(r.phases(kTimer2CompA, ovf[0] - 1, 32'640), (std::vector<Cycles>{6'336 + 1, 26'304 + 1}));
+    EXPECT_EQ(intervals(r, kTimer2Ovf, changes[0], changes[1]), std::vector<Cycles>(3, 32'640));
+    const std::vector<Cycles> ctc = intervals(r, kTimer2CompA, changes[1] + 100, changes[2]);
+    ASSERT_GE(ctc.size(), 6U);
+    for (std::size_t i = 1; i < ctc.size(); ++i) EXPECT_EQ(ctc[i], 6'400U) << i;
+    EXPECT_EQ(intervals(r, kTimer2Ovf, changes[2], changes[3]), std::vector<Cycles>(3, 32'640));
+}
+
 TEST(PhaseCorrectTimer, LeavesTheModesSimavrRunsToSimavr) {
     // The reference firmware after the Arduino core's init(): Timer0 in fast
     // PWM (mode 3, in simavr's table) stays simavr's, its overflow every
