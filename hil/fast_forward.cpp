@@ -1,35 +1,39 @@
 #include "hil/fast_forward.hpp"
 
-#include <avr_ioport.h>
 #include <avr_timer.h>
 #include <sim_avr.h>
 #include <sim_cycle_timers.h>
 #include <sim_interrupts.h>
 #include <sim_regbit.h>
 
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstring>
 #include <limits>
 
 #include "hil/avr_core.hpp"
-#include "hil/avr_decode.hpp"
+#include "hil/fast_forward_loop.hpp"
 #include "hil/mcu.hpp"
 #include "hil/simavr_io.hpp"
+
+// Jumps: bounds, the held cycle timers, the verification pass, bisection
+// and prediction of a loop's changes of path (hil/fast_forward.hpp).
 
 namespace ddmr::hil {
 namespace {
 
-/// A pass longer than this is not a busy-wait loop worth skipping.
-constexpr std::size_t kMaxPassSteps = 400;
-constexpr Cycles kMaxPassCycles = 2000;
 /// Fewer passes than this per jump do not pay for the verification pass.
 constexpr Cycles kMinPassesPerJump = 1;
-/// After a learning attempt an interrupt or a stop cut short.
-constexpr Cycles kLearningBackoff = 4096;
-/// Passes that twice left their path before it repeated: refused after this many tries.
-constexpr int kMaxLearningTries = 16;
+/// How far a located change of path, or a period measured between two, may
+/// be off [passes]: the bisection locates a change to within 3 passes after it.
+constexpr Cycles kPredictionSlackPasses = 4;
+/// The window around a predicted change that runs without jumps [passes].
+constexpr Cycles kWindowBeforePasses = 3;
+constexpr Cycles kWindowAfterPasses = 2;
+/// A period shorter than this many slacks is not predicted.
+constexpr Cycles kMinPeriodSlacks = 8;
+/// Changes predicted in a row before one is located again.
+constexpr unsigned kMaxBlindChanges = 16;
 /// Cycles kept between a verification pass's end and the bound: an
 /// instruction that leaves the path may take more cycles than on the
 /// learned pass (a skip, a taken branch: at most a 5-cycle RET/CALL more),
@@ -40,81 +44,9 @@ constexpr Cycles kVerifyMargin = 5;
 /// retries up to an event a part's step scheduled).
 constexpr int kMaxJumpAttempts = 12;
 
-/// True if something listens to the I/O address's memory IRQs (raised on reads too).
-bool has_listeners(const avr_t* avr, uint16_t address) {
-    const avr_irq_t* irq = avr->io[AVR_DATA_TO_IO(address)].irq;
-    if (irq == nullptr) return false;
-    for (int i = 0; i <= AVR_IOMEM_IRQ_ALL; ++i) {
-        if (irq[i].hook != nullptr) return true;
-    }
-    return false;
-}
-
-/// True if a read of the address is seen by a part: a listener that did not
-/// declare itself through AvrCore::watch_io, or one whose state a read's
-/// notification can change.
-bool read_observed(const avr_t* avr, const std::unordered_map<uint16_t, IoWatchers>& watchers, uint16_t address) {
-    if (!has_listeners(avr, address)) return false;
-    const auto it = watchers.find(address);
-    return it == watchers.end() || it->second.reads_matter > 0;
-}
-
-/// True if simavr's SREG arrays agree on the flags in `mask`.
-bool flags_equal(uint8_t mask, const uint8_t* a, const uint8_t* b) {
-    for (unsigned f = 0; f < 8; ++f) {
-        if (((mask >> f) & 1U) != 0 && (a[f] != 0) != (b[f] != 0)) return false;
-    }
-    return true;
-}
-
-/// A register's name for a refusal, from the MCU description where it has one.
-std::string io_name(const McuDescription& mcu, uint16_t a) {
-    for (const PortRegisters& p : mcu.ports) {
-        if (a == p.pin) return fmt::format("PIN{}", p.port);
-        if (a == p.ddr) return fmt::format("DDR{}", p.port);
-        if (a == p.port_register) return fmt::format("PORT{}", p.port);
-    }
-    for (const UsartDesc& u : mcu.usarts) {
-        if (a == u.udr) return fmt::format("UDR{}", u.index);
-        if (a == u.ucsra) return fmt::format("UCSR{}A", u.index);
-        if (a == u.ucsrb) return fmt::format("UCSR{}B", u.index);
-    }
-    for (const TimerDesc& t : mcu.timers) {
-        if (a == t.tcnt_low || (t.tcnt_high != 0 && a == t.tcnt_high)) return fmt::format("TCNT{}", t.index);
-        if (a == t.tccra) return fmt::format("TCCR{}A", t.index);
-        if (a == t.tccrb) return fmt::format("TCCR{}B", t.index);
-    }
-    if (a == mcu.eecr) return "EECR";
-    if (a == mcu.twcr) return "TWCR";
-    if (a == mcu.adc.adcsra) return "ADCSRA";
-    return fmt::format("I/O 0x{:02x}", a);
-}
-
 }  // namespace
 
-struct FastForward::Loop {
-    SkippedLoop info;
-    uint16_t sp = 0;
-    std::vector<uint32_t> pcs;
-    std::vector<uint16_t> sps;        ///< per step: SP before it
-    std::vector<uint32_t> step_ends;  ///< per step: cycles from the anchor to its end
-    /// Per step: the bytes it accessed through a pointer register (LD/ST X,
-    /// Y, Z), checked again on the verification pass; other steps' addresses
-    /// follow from the path and SP.
-    std::vector<StepAccess> accesses;
-    std::vector<bool> through_pointer;
-    std::vector<uint16_t> carried;
-    uint8_t carried_flags = 0;  ///< SREG bits read before written, and written
-    uint32_t timers_read = 0;  ///< bit n: the pass reads timers_[n]'s TCNT or flags
-    LoopSpan span;
-};
-
-struct FastForward::Snapshot {
-    Cycles cycle = 0;
-    uint32_t pc = 0;
-    uint8_t sreg[8] = {};
-    int8_t interrupt_state = 0;
-};
+using ff_detail::flags_equal;
 
 FastForward::FastForward(AvrCore& core, const std::vector<ReplayableTimer>& replayable,
                          const std::unordered_map<uint16_t, IoWatchers>& watchers)
@@ -144,14 +76,20 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
     if (avr_->state != cpu_Running || halt_a || halt_b) return false;  // the run stops here
     const uint32_t pc = avr_->pc;
     if ((pc >> 1) >= state_.size()) return false;
+    const uint16_t sp = core_.stack_pointer();
     const int32_t st = slot(pc);
-    if (st >= 0) return try_jump(loops_[static_cast<std::size_t>(st)]);
+    const int32_t here = loop_for(pc, sp);
+    if (here >= 0) {
+        Loop& loop = loops_[static_cast<std::size_t>(here)];
+        if (loop.refusal == kUnknown) return try_jump(loop);
+        ++refused_[static_cast<std::size_t>(loop.refusal)].visits;
+        return false;
+    }
     if (enter_learned_pass(halt_a, halt_b)) return true;
     if (st < kUnknown) {
         ++refused_[static_cast<std::size_t>(-2 - st)].visits;
         return false;
     }
-    const uint16_t sp = core_.stack_pointer();
     bool seen = false;
     for (unsigned i = 0; i < kHistory; ++i) seen = seen || (last_pc_[i] == pc && last_sp_[i] == sp);
     last_pc_[last_next_] = pc;
@@ -159,153 +97,32 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
     last_next_ = (last_next_ + 1) % kHistory;
     // A PC on a learned pass is in a loop: learn it as an anchor of its own
     // (the same loop, or another through the same code), so that later batch
-    // ends there jump at once.
-    if (!(seen || path_[pc >> 1] >= 0) || avr_->cycle < no_learning_before_) return false;
+    // ends there jump at once. So is an anchor met at another stack depth.
+    if (!(seen || st >= 0 || path_[pc >> 1] >= 0) || avr_->cycle < no_learning_before_) return false;
     return learn(pc, halt_a, halt_b);
 }
 
 bool FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
-    const int32_t on = path_[avr_->pc >> 1];
-    if (on < 0 || avr_->cycle < no_jump_before_) return false;
-    // Inside a learned pass, not at its anchor: on to the anchor, and jump there.
-    Loop& loop = loops_[static_cast<std::size_t>(on)];
+    if (avr_->cycle < no_jump_before_) return false;
+    // Inside a learned pass, not at its anchor (with the SP the pass has
+    // there): on to the anchor, and jump there.
+    const auto on = on_pass_.find(pass_key(avr_->pc, core_.stack_pointer()));
+    if (on == on_pass_.end()) return false;
+    Loop& loop = loops_[static_cast<std::size_t>(on->second)];
     switch (walk_to_anchor(loop, halt_a, halt_b)) {
         case Walk::kArrived: (void)try_jump(loop); return true;
         case Walk::kLeft: {
             // Off this pass, perhaps onto another loop's anchor through the same code.
-            const int32_t st = slot(avr_->pc);
-            if (st >= 0 && avr_->state == cpu_Running && !halt_a && !halt_b) {
-                (void)try_jump(loops_[static_cast<std::size_t>(st)]);
+            const int32_t at = loop_for(avr_->pc, core_.stack_pointer());
+            if (at >= 0 && loops_[static_cast<std::size_t>(at)].refusal == kUnknown && avr_->state == cpu_Running &&
+                !halt_a && !halt_b) {
+                (void)try_jump(loops_[static_cast<std::size_t>(at)]);
             }
             return true;
         }
         case Walk::kNotOnPath: break;
     }
     return false;
-}
-
-bool FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
-                              const bool& halt_a, const bool& halt_b) {
-    const Cycles start = avr_->cycle;
-    const uint16_t sp = core_.stack_pointer();
-    const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
-    steps.clear();
-    while (steps.size() < kMaxPassSteps) {
-        const uint32_t pc = avr_->pc;
-        if (!steps.empty() && pc == anchor && core_.stack_pointer() == sp) {
-            cycles = avr_->cycle - start;
-            return true;
-        }
-        steps.push_back({pc, core_.stack_pointer(), step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu())});
-        if (!step_one() || halt_a || halt_b) return false;
-        steps.back().cycles_after = static_cast<uint32_t>(avr_->cycle - start);
-        if (avr_->pc < vectors_end || avr_->cycle - start > kMaxPassCycles) return false;  // an interrupt
-    }
-    return false;
-}
-
-bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b) {
-    avr_->run_cycle_limit = 1;
-    std::vector<RecordedStep> first;
-    std::vector<RecordedStep> second;
-    Cycles c1 = 0;
-    Cycles c2 = 0;
-    bool ok = record_pass(anchor, first, c1, halt_a, halt_b);
-    const Snapshot between = snapshot();  // the state the second pass starts from
-    ok = ok && record_pass(anchor, second, c2, halt_a, halt_b);
-    avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
-    no_learning_before_ = avr_->cycle + kLearningBackoff;
-    if (!ok) return true;
-    const bool same_path = c1 == c2 && first.size() == second.size() &&
-                           std::equal(first.begin(), first.end(), second.begin(),
-                                      [](const RecordedStep& a, const RecordedStep& b) { return a.pc == b.pc; });
-    if (!same_path) {
-        auto& tries = tries_[anchor];
-        if (++tries >= kMaxLearningTries) refuse(anchor, "its passes do not repeat one instruction path");
-        return true;
-    }
-    const PassAnalysis analysis = analyse_pass(second, 0x20, mcu_.sram_start, mcu_.spl);
-    Loop loop;
-    std::string why = analysis.refusal;
-    if (why.empty()) why = accept_io(analysis, loop.timers_read);
-    for (uint16_t a : analysis.carried) {
-        if (!why.empty()) break;
-        if (avr_->data[a] == saved_data_[a]) continue;
-        why = a < 32 ? fmt::format("changes r{} from pass to pass", a)
-                     : fmt::format("changes 0x{:04x} from pass to pass", a);
-    }
-    if (why.empty() && !flags_equal(analysis.carried_flags, between.sreg, avr_->sreg)) {
-        why = "changes an SREG flag from pass to pass";
-    }
-    if (!why.empty()) {
-        refuse(anchor, why);
-        return true;
-    }
-    loop.info.anchor = anchor;
-    loop.info.pass_cycles = c2;
-    loop.sp = core_.stack_pointer();
-    loop.carried = analysis.carried;
-    loop.carried_flags = analysis.carried_flags;
-    loop.info.pc_low = loop.info.pc_high = anchor;
-    loop.span.min_sp = loop.span.max_sp = loop.sp;
-    loop.span.io_reads = analysis.io_reads;
-    for (const RecordedStep& s : second) {
-        if (s.access.mem_write) {
-            for (unsigned i = 0; i < s.access.count; ++i) {
-                const uint16_t a = s.access.address[i];
-                if (a >= mcu_.sram_start) loop.span.lowest_sram_write = std::min(loop.span.lowest_sram_write, a);
-            }
-        }
-        loop.span.min_sp = std::min(loop.span.min_sp, s.sp);
-        loop.span.max_sp = std::max(loop.span.max_sp, s.sp);
-        loop.pcs.push_back(s.pc);
-        loop.sps.push_back(s.sp);
-        loop.step_ends.push_back(s.cycles_after);
-        loop.accesses.push_back(s.access);
-        const auto d = avr::decode_data_access(core_.flash_word(s.pc), 0);
-        loop.through_pointer.push_back(d && d->pointer != avr::Pointer::kNone);
-        loop.info.pc_low = std::min(loop.info.pc_low, s.pc);
-        loop.info.pc_high = std::max(loop.info.pc_high, s.pc);
-    }
-    slot(anchor) = static_cast<int32_t>(loops_.size());
-    for (uint32_t pc : loop.pcs) {
-        if (pc != anchor && path_[pc >> 1] == kUnknown) path_[pc >> 1] = static_cast<int32_t>(loops_.size());
-    }
-    loops_.push_back(std::move(loop));
-    for (Loop& l : loops_) l.span.pcs = &l.pcs;  // re-pointed after each growth of loops_
-    return true;
-}
-
-std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
-    for (uint16_t a : analysis.io_reads) {
-        if (a == mcu_.spl || a == mcu_.sph) continue;
-        if (read_observed(avr_, watchers_, a)) return fmt::format("reads {}, which a part watches", io_name(mcu_, a));
-        bool timer = false;
-        for (std::size_t n = 0; n < timers_.size(); ++n) {
-            const auto* t = static_cast<const avr_timer_t*>(timers_[n]);
-            if (a == t->r_tcnt || (t->r_tcnth != 0 && a == t->r_tcnth) || a == t->overflow.raised.reg) {
-                timers_read |= 1U << n;
-                timer = true;
-            }
-        }
-        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
-        const bool pin = std::any_of(mcu_.ports.begin(), mcu_.ports.end(),
-                                     [a](const PortRegisters& p) { return p.pin == a; });
-        if (!timer && !pin && io.r.c != nullptr) {
-            return fmt::format("reads {}, a read with side effects in simavr", io_name(mcu_, a));
-        }
-    }
-    for (uint16_t a : analysis.io_writes) {
-        if (a == mcu_.spl || a == mcu_.sph) continue;
-        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
-        if (io.w.c != nullptr || io.irq != nullptr) return fmt::format("writes {}", io_name(mcu_, a));
-    }
-    return {};
-}
-
-void FastForward::refuse(uint32_t anchor, std::string reason) {
-    slot(anchor) = -2 - static_cast<int32_t>(refused_.size());
-    refused_.push_back(RefusedLoop{anchor, fmt::format("PC 0x{:04x}: {}", anchor, reason), 0});
 }
 
 FastForward::Defer FastForward::deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const {
@@ -480,25 +297,107 @@ FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt
 // to there, so the jumps close in on the change by bisection. A jump taken
 // back for an event a part's step scheduled inside it is tried again up to
 // that event (the steps already run stay run).
+// A loop whose path changes at a steady period is jumped to just before
+// its next change, and the passes around it run: that saves the bisection's
+// tries (each a stepped pass), about eight per millisecond of delay(). A
+// prediction only aims the jumps; each is verified as any other.
 bool FastForward::try_jump(Loop& loop) {
     if (avr_->cycle < no_jump_before_ || core_.stack_pointer() != loop.sp) return false;
     // interrupt_state < 0: the I flag was just set (the instruction after SEI
     // or OUT SREG runs first); with nothing pending that is part of the pass.
     if (avr_->interrupt_state > 0 || avr_has_pending_interrupts(avr_) != 0) return false;
-    constexpr Cycles kNoChangeSeen = std::numeric_limits<Cycles>::max();
+    const Cycles aim = aim_before_change(loop);
+    if (aim == 0) return false;  // the change is due: it runs
     Cycles changes_by = kNoChangeSeen;  // the path is seen to change by then
     bool ran = false;
     for (int attempt = 0; attempt < kMaxJumpAttempts; ++attempt) {
         const Cycles now = avr_->cycle;
-        const Cycles cap = changes_by == kNoChangeSeen ? kNoChangeSeen : now + (changes_by - now) / 2;
+        const Cycles cap = changes_by == kNoChangeSeen ? aim : now + (changes_by - now) / 2;
         const Jump outcome = jump_once(loop, now, cap, changes_by);
         if (outcome == Jump::kTooShort) break;
         ran = true;
         if (outcome == Jump::kStopDeferred) return true;
         if (outcome == Jump::kSkipped && changes_by == kNoChangeSeen) return true;
     }
-    if (changes_by != kNoChangeSeen) no_jump_before_ = changes_by;
+    // Located: the change is within the shortest jump (the bisection stopped
+    // on its own cap). If an event or the attempts cut it short, the passes
+    // run on to the event, which may move the change, and the next try starts afresh.
+    const Cycles shortest = (kMinPassesPerJump + 2) * loop.info.pass_cycles + kVerifyMargin;
+    if (changes_by != kNoChangeSeen && changes_by - avr_->cycle <= 2 * shortest) {
+        no_jump_before_ = changes_by;
+        note_change(loop, changes_by);
+    }
     return ran;
+}
+
+// Where a jump should stop short of the loop's next predicted change of
+// path (kNoChangeSeen: no prediction), or 0 if the change is due now: then
+// no jump is tried until just after it (the window), and no walk either.
+// A located change is up to 3 passes late (the bisection stops there), so
+// the change comes up to that much before the prediction: the window opens
+// kWindowBefore passes before it and closes kWindowAfter passes after.
+Cycles FastForward::aim_before_change(Loop& loop) {
+    ChangeTrack& t = *loop.changes;
+    if (!t.held) return kNoChangeSeen;
+    const Cycles pass = loop.info.pass_cycles;
+    const Cycles now = avr_->cycle;
+    const Cycles after = kWindowAfterPasses * pass;
+    if (t.at + t.period + after <= now) {  // changes that ran in a window, unseen: assumed on time
+        const Cycles k = (now - t.at - after) / t.period;
+        t.at += k * t.period;
+        t.blind += static_cast<unsigned>(std::min<Cycles>(k, kMaxBlindChanges));
+    }
+    // After a few assumed changes the next is located again (bisection),
+    // which checks the period and its phase.
+    t.held = t.blind < kMaxBlindChanges;
+    if (!t.held) return kNoChangeSeen;
+    const Cycles predicted = t.at + t.period;
+    const Cycles opens = predicted - kWindowBeforePasses * pass;
+    // Too close to the window for a jump (one pass skipped, one verified): wait there.
+    if (now + (kMinPassesPerJump + 2) * pass + kVerifyMargin >= opens) {
+        no_jump_before_ = predicted + after;
+        return 0;
+    }
+    return opens;
+}
+
+// A change located by bisection (up to 3 passes before `at`). While the
+// changes located keep to whole periods from the last one (to within the
+// slack per period: the changes between may have run unseen, in a window),
+// the period is held, and measured again over all the periods since the
+// first change of the phase. Otherwise the phase broke (a new call of
+// delay()): the period is kept, and the interval becomes a candidate, held
+// if the next one matches it. Only where jumps end is predicted, never the
+// path: a wrong prediction costs time, never exactness.
+void FastForward::note_change(Loop& loop, Cycles at) {
+    ChangeTrack& t = *loop.changes;
+    const Cycles slack = kPredictionSlackPasses * loop.info.pass_cycles;
+    const Cycles interval = t.located == 0 || at <= t.located ? 0 : at - t.located;
+    const auto near = [](Cycles a, Cycles b, Cycles tolerance) { return a + tolerance >= b && a <= b + tolerance; };
+    const Cycles n = t.period == 0 ? 0 : (interval + t.period / 2) / t.period;
+    t.held = false;
+    if (interval < kMinPeriodSlacks * slack) {
+        t.ref_at = at;
+        t.candidate = 0;
+    } else if (n >= 1 && near(interval, n * t.period, n * slack)) {
+        const Cycles since = at - t.ref_at;
+        const Cycles periods = (since + t.period / 2) / t.period;
+        if (periods > t.periods) {
+            t.period = (since + periods / 2) / periods;
+            t.periods = periods;
+        }
+        t.held = true;
+    } else if (t.candidate != 0 && near(interval, t.candidate, slack)) {
+        t.period = interval;
+        t.periods = 1;
+        t.held = true;
+    } else {
+        t.candidate = interval;
+        t.ref_at = at;
+    }
+    t.located = at;
+    t.at = at;
+    t.blind = 0;
 }
 
 FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by) {
@@ -538,6 +437,7 @@ FastForwardStats FastForward::stats() const {
     FastForwardStats s;
     s.cycles_skipped = cycles_skipped_;
     for (const Loop& l : loops_) {
+        if (l.refusal != kUnknown) continue;
         s.skips += l.info.skips;
         s.mismatches += l.info.mismatches;
         s.taken_back += l.info.taken_back;

@@ -6,7 +6,9 @@
 // Detect: at the end of each instruction batch (at each cycle timer, and at
 // least every kSamplePeriod cycles while fast-forward is on), a PC seen
 // twice with the same SP in the last kHistory batch ends is a candidate
-// anchor; a batch end inside a learned pass steps on along it to its anchor. Two passes from it are stepped and
+// anchor; a batch end inside a learned pass steps on along it to its anchor.
+// A loop is learned per anchor and SP: the same code at another stack depth
+// carries its bytes at other addresses. Two passes from it are stepped and
 // recorded (hil/loop_pass.hpp); they must follow the same instruction path
 // in the same cycles, touch only I/O whose reads have no side effects
 // (plain registers, TCNTn, PINx) and write no I/O but SREG, and leave every
@@ -25,7 +27,11 @@
 // saved, the clock moves k passes on, and one pass is stepped and checked
 // against the learned path and carried bytes; on a mismatch the state is
 // restored and the next try aims at half the distance (bisection toward the
-// change of path).
+// change of path). A loop whose path changes at a steady period (delay()'s
+// milliseconds) is jumped to just before its next predicted change instead,
+// and the passes around it run; the prediction only aims the jumps.
+//
+// Learning is in fast_forward_learn.cpp, jumps in fast_forward.cpp.
 //
 // Not used while instruction hooks or a step watch are installed (the
 // profilers, the race detector inside an ISR) or gdb serves the run: the
@@ -146,14 +152,20 @@ public:
 
 private:
     struct Loop;
+    struct ChangeTrack;
     struct Snapshot;
     enum : int32_t { kUnknown = -1 };
     bool learn(uint32_t anchor, const bool& halt_a, const bool& halt_b);
-    bool record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles, const bool& halt_a,
-                     const bool& halt_b);
+    /// How a recorded pass ended.
+    enum class Record { kPass, kDiffers, kTooLong, kCut };
+    Record record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
+                       const std::vector<RecordedStep>* follow, const bool& halt_a, const bool& halt_b);
     std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
     struct Held;
     bool try_jump(Loop& loop);
+    static void note_change(Loop& loop, Cycles at);
+    Cycles aim_before_change(Loop& loop);
+    static constexpr Cycles kNoChangeSeen = ~Cycles{0};
     bool enter_learned_pass(const bool& halt_a, const bool& halt_b);
     enum class Walk { kNotOnPath, kLeft, kArrived };
     Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b);
@@ -172,7 +184,11 @@ private:
     /// How a pending cycle timer stands to a jump over the loop's passes.
     enum class Defer { kNo, kReplay, kAtOwnCycle };
     Defer deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const;
-    void refuse(uint32_t anchor, std::string reason);
+    void refuse(uint32_t anchor, uint16_t sp, std::string reason);
+    /// The loop (or refusal) anchored at `pc` for stack pointer `sp`, or kUnknown.
+    [[nodiscard]] int32_t loop_for(uint32_t pc, uint16_t sp) const;
+    /// Adds a loop (or a refusal) to loops_, chained at its anchor's PC.
+    void link(Loop&& loop);
     int32_t& slot(uint32_t pc) { return state_[pc >> 1]; }
     CpuView cpu() const;
 
@@ -181,8 +197,11 @@ private:
     const McuDescription& mcu_;
     const std::vector<ReplayableTimer>& replayable_;
     const std::unordered_map<uint16_t, IoWatchers>& watchers_;
-    std::vector<int32_t> state_;  ///< per flash word: kUnknown, loop index, or -2 - refusal index
+    std::vector<int32_t> state_;  ///< per flash word: kUnknown, the first loop anchored there (Loop::next_at_pc), or -2 - refusal index
     std::vector<int32_t> path_;   ///< per flash word: a loop whose pass runs through it (not its anchor), or kUnknown
+    /// The first loop whose pass runs through a PC with an SP (pass_key), not at its anchor.
+    std::unordered_map<uint64_t, int32_t> on_pass_;
+    static uint64_t pass_key(uint32_t pc, uint16_t sp) { return uint64_t{pc} << 16 | sp; }
     std::vector<Loop> loops_;
     std::vector<RefusedLoop> refused_;
     std::vector<void*> timers_;  ///< simavr's timer modules (their cycle timers' parameter)
@@ -194,7 +213,7 @@ private:
     Cycles no_jump_before_ = 0;
     uint64_t cycles_skipped_ = 0;
     std::vector<uint8_t> saved_data_;
-    std::unordered_map<uint32_t, int> tries_;  ///< learning attempts whose two passes differed
+    std::unordered_map<uint64_t, int> tries_;  ///< learning attempts that failed, by anchor << 16 | SP
 };
 
 }  // namespace ddmr::hil

@@ -27,6 +27,10 @@
  *     up past one value and down past another, three times each in WGM 1
  *     (TOP 0xFF), in WGM 5 with OCR2A = 150 as TOP, and after OCR2A = 90
  *     (a new TOP, taken at the next TOP).
+ *   FF_DELAY_MS: the Arduino core's delay() algorithm (a millisecond
+ *     counted down each time us() has moved on 1000 us: the path changes
+ *     every 16,000 cycles), 100 ms called from run() and 100 ms from three
+ *     calls deeper (another stack depth).
  * Each prints one line per event, with us() at it, then "done". */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -164,8 +168,34 @@ static void run(void) {
     OCR2A = 90;
     for (uint8_t i = 0; i < 3; ++i) poll_count(80, 20);
 }
+#elif defined(FF_DELAY_MS)
+static void delay_ms(uint32_t ms) {
+    uint32_t start = us();
+    while (ms > 0) {
+        while (ms > 0 && (us() - start) >= 1000U) {
+            --ms;
+            start += 1000U;
+        }
+    }
+}
+static void deeper(uint8_t depth) {
+    volatile uint8_t frame[8];
+    frame[0] = depth;
+    if (depth > 0) {
+        deeper((uint8_t)(depth - 1));
+    } else {
+        delay_ms(100);
+    }
+    (void)frame[0];
+}
+static void run(void) {
+    delay_ms(100);
+    event("delay", 100);
+    deeper(3);
+    event("delay", 200);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_DELAY_MS"
 #endif
 
 int main(void) {

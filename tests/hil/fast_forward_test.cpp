@@ -190,6 +190,30 @@ TEST(FastForward, PollsTheCountOfAPhaseCorrectTimerExactly) {
     EXPECT_NE(on.bytes.text.find("done"), std::string::npos) << on.bytes.text;  // all nine polls ended
 }
 
+TEST(FastForward, PredictsTheMillisecondsOfADelayAtEveryStackDepth) {
+    // FF_DELAY_MS: delay()'s algorithm, its path changing every 16,000
+    // cycles: 100 ms from run(), then 100 ms three calls deeper (another SP).
+    // Exact both ways; each half is mostly skipped (the second less: it
+    // includes most of two lines sent), and the changes are predicted: with
+    // a bisection at each, checked passes left the path 537 times.
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / "ff_delay_ms.elf");
+    (void)expect_identical_states("ff_delay_ms", every(99'991, 3'600'000));
+    Twin on(elf, true);
+    const auto skipped = [&on] { return on.session.core().fast_forward()->stats().cycles_skipped; };
+    const auto run_to_line = [&on](const std::string& line) {
+        const RunCondition until{[&on, &line] { return on.bytes.text.find(line) != std::string::npos; }, true};
+        EXPECT_EQ(on.session.run(Session::kNoTarget, until), SessionStop::kCondition) << line;
+        return on.session.cycle();
+    };
+    const Cycles first_end = run_to_line("delay 100");
+    const Cycles first_skipped = skipped();
+    const Cycles second_start = on.session.cycle();
+    const Cycles second_end = run_to_line("delay 200");
+    EXPECT_GT(static_cast<double>(first_skipped) / static_cast<double>(first_end), 0.85);
+    EXPECT_GT(static_cast<double>(skipped() - first_skipped) / static_cast<double>(second_end - second_start), 0.75);
+    EXPECT_LT(on.session.core().fast_forward()->stats().mismatches, 150U);  // 200 changes of path
+}
+
 TEST(FastForward, AWatchdogResetWhileItStepsIsTheCoresReset) {
     // FF_WATCHDOG: the watchdog resets the chip about every 16 ms inside a
     // wait loop fast-forward learns, walks and skips. Each reset must come

@@ -146,7 +146,7 @@ def interrupt_after(seconds):
 
 
 def test_ctrl_c_stops_a_long_run_and_the_session_stays_where_it_stopped(reference_elf):
-    s = Session(firmware=reference_elf, instruments=False)
+    s = Session(firmware=reference_elf, instruments=False, fast_forward=False)
     interrupt_after(0.3)
     with pytest.raises(KeyboardInterrupt):
         s.run_for(600.0)
@@ -157,8 +157,10 @@ def test_ctrl_c_stops_a_long_run_and_the_session_stays_where_it_stopped(referenc
 
 
 def test_ctrl_c_stops_run_contract_which_then_cannot_run_on(reference_elf):
-    s = Session(firmware=reference_elf, instruments=False)
-    interrupt_after(0.8)  # case 1 takes about 2 s of wall time
+    # Executing every pass, case 1 takes about 1.5 s of wall time (about
+    # 0.5 s with fast-forward: too close to call).
+    s = Session(firmware=reference_elf, instruments=False, fast_forward=False)
+    interrupt_after(0.4)
     with pytest.raises(KeyboardInterrupt):
         s.run_contract(case=1)
     with pytest.raises(ddmr_hil.RunEnded, match=r"run_contract\(\) was stopped before the contract's end"):

@@ -20,7 +20,10 @@ std::string cli() { return sh_quote(cli_path().string()); }
 
 TEST(Timeouts, WallClockLimitStopsARunAndKeepsItsArtifacts) {
     TempDir dir;
-    const auto r = run_command(cli() + " run -q --wall-timeout 0.5 --out " + sh_quote((dir / "out").string()));
+    // Executing every pass, case 1 takes about 1.5 s of wall time (about
+    // 0.5 s with fast-forward: too close to a 0.5 s limit).
+    const auto r = run_command(cli() + " run -q --no-fast-forward --wall-timeout 0.5 --out " +
+                               sh_quote((dir / "out").string()));
     EXPECT_EQ(r.exit_code, 3) << r.err;
     EXPECT_NE(r.err.find("wall-clock timeout after 0.5 s"), std::string::npos) << r.err;
     const auto s = nlohmann::json::parse(read_text(dir / "out/summary.json"));
@@ -43,8 +46,9 @@ TEST(Timeouts, WallClockLimitStopsAScenarioWorker) {
     TempDir dir;
     const fs::path f = dir / "long.yaml";
     std::ofstream(f) << "name: long\ntimeout: 600s\nsteps:\n  - delay: 590s\n";
-    const auto r = run_command(cli() + " scenario " + sh_quote(f.string()) + " --wall-timeout 1 --out " +
-                               sh_quote((dir / "out").string()));
+    // Executing every pass: 590 simulated s take far longer than 1 s of wall time.
+    const auto r = run_command(cli() + " scenario " + sh_quote(f.string()) +
+                               " --no-fast-forward --wall-timeout 1 --out " + sh_quote((dir / "out").string()));
     EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
     EXPECT_NE(r.out.find("wall-clock timeout after 1 s"), std::string::npos) << r.out;
     const auto results = nlohmann::json::parse(read_text(dir / "out/results.json"));

@@ -1,0 +1,254 @@
+#include "hil/fast_forward.hpp"
+
+#include <avr_timer.h>
+#include <sim_avr.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+
+#include "hil/avr_core.hpp"
+#include "hil/avr_decode.hpp"
+#include "hil/fast_forward_loop.hpp"
+#include "hil/mcu.hpp"
+
+// Learning: a candidate anchor's two passes are stepped and recorded, and
+// the loop is kept, with its pass, or refused, with the reason
+// (hil/fast_forward.hpp).
+
+namespace ddmr::hil {
+namespace {
+
+/// A pass longer than this is not a busy-wait loop worth skipping.
+constexpr std::size_t kMaxPassSteps = 400;
+constexpr Cycles kMaxPassCycles = 2000;
+/// After a learning attempt an interrupt or a stop cut short.
+constexpr Cycles kLearningBackoff = 4096;
+/// Passes that twice left their path before it repeated: refused after this many tries.
+constexpr int kMaxLearningTries = 16;
+/// A try whose pass ran past kMaxPassCycles counts as this many (it stepped that long).
+constexpr int kLongTryWeight = 4;
+
+/// True if something listens to the I/O address's memory IRQs (raised on reads too).
+bool has_listeners(const avr_t* avr, uint16_t address) {
+    const avr_irq_t* irq = avr->io[AVR_DATA_TO_IO(address)].irq;
+    if (irq == nullptr) return false;
+    for (int i = 0; i <= AVR_IOMEM_IRQ_ALL; ++i) {
+        if (irq[i].hook != nullptr) return true;
+    }
+    return false;
+}
+
+/// True if a read of the address is seen by a part: a listener that did not
+/// declare itself through AvrCore::watch_io, or one whose state a read's
+/// notification can change.
+bool read_observed(const avr_t* avr, const std::unordered_map<uint16_t, IoWatchers>& watchers, uint16_t address) {
+    if (!has_listeners(avr, address)) return false;
+    const auto it = watchers.find(address);
+    return it == watchers.end() || it->second.reads_matter > 0;
+}
+
+/// A register's name for a refusal, from the MCU description where it has one.
+std::string io_name(const McuDescription& mcu, uint16_t a) {
+    for (const PortRegisters& p : mcu.ports) {
+        if (a == p.pin) return fmt::format("PIN{}", p.port);
+        if (a == p.ddr) return fmt::format("DDR{}", p.port);
+        if (a == p.port_register) return fmt::format("PORT{}", p.port);
+    }
+    for (const UsartDesc& u : mcu.usarts) {
+        if (a == u.udr) return fmt::format("UDR{}", u.index);
+        if (a == u.ucsra) return fmt::format("UCSR{}A", u.index);
+        if (a == u.ucsrb) return fmt::format("UCSR{}B", u.index);
+    }
+    for (const TimerDesc& t : mcu.timers) {
+        if (a == t.tcnt_low || (t.tcnt_high != 0 && a == t.tcnt_high)) return fmt::format("TCNT{}", t.index);
+        if (a == t.tccra) return fmt::format("TCCR{}A", t.index);
+        if (a == t.tccrb) return fmt::format("TCCR{}B", t.index);
+    }
+    if (a == mcu.eecr) return "EECR";
+    if (a == mcu.twcr) return "TWCR";
+    if (a == mcu.adc.adcsra) return "ADCSRA";
+    return fmt::format("I/O 0x{:02x}", a);
+}
+
+}  // namespace
+
+using ff_detail::flags_equal;
+
+int32_t FastForward::loop_for(uint32_t pc, uint16_t sp) const {
+    int32_t i = state_[pc >> 1];
+    while (i >= 0 && loops_[static_cast<std::size_t>(i)].sp != sp) i = loops_[static_cast<std::size_t>(i)].next_at_pc;
+    return i >= 0 ? i : kUnknown;
+}
+
+void FastForward::link(Loop&& loop) {
+    const auto index = static_cast<int32_t>(loops_.size());
+    int32_t* next = &slot(loop.info.anchor);
+    while (*next >= 0) next = &loops_[static_cast<std::size_t>(*next)].next_at_pc;
+    *next = index;
+    if (loop.refusal == kUnknown) {
+        for (uint32_t pc : loop.pcs) {
+            if (pc != loop.info.anchor && path_[pc >> 1] == kUnknown) path_[pc >> 1] = index;
+        }
+        for (std::size_t i = 1; i < loop.pcs.size(); ++i) on_pass_.emplace(pass_key(loop.pcs[i], loop.sps[i]), index);
+    }
+    loops_.push_back(std::move(loop));
+    for (Loop& l : loops_) l.span.pcs = &l.pcs;  // re-pointed after each growth of loops_
+}
+
+// Steps one pass from the anchor back to it. With `follow` (the first
+// pass), stops as soon as this one leaves its path.
+FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
+                                             const std::vector<RecordedStep>* follow, const bool& halt_a,
+                                             const bool& halt_b) {
+    const Cycles start = avr_->cycle;
+    const uint16_t sp = core_.stack_pointer();
+    const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
+    steps.clear();
+    while (steps.size() < kMaxPassSteps) {
+        const uint32_t pc = avr_->pc;
+        if (!steps.empty() && pc == anchor && core_.stack_pointer() == sp) {
+            cycles = avr_->cycle - start;
+            return follow != nullptr && steps.size() != follow->size() ? Record::kDiffers : Record::kPass;
+        }
+        if (follow != nullptr && (steps.size() >= follow->size() || (*follow)[steps.size()].pc != pc)) {
+            return Record::kDiffers;
+        }
+        steps.push_back({pc, core_.stack_pointer(), step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu())});
+        if (!step_one() || halt_a || halt_b) return Record::kCut;
+        steps.back().cycles_after = static_cast<uint32_t>(avr_->cycle - start);
+        if (avr_->pc < vectors_end) return Record::kCut;  // an interrupt
+        if (avr_->cycle - start > kMaxPassCycles) return Record::kTooLong;
+    }
+    return Record::kTooLong;
+}
+
+bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b) {
+    avr_->run_cycle_limit = 1;
+    const uint16_t anchor_sp = core_.stack_pointer();
+    std::vector<RecordedStep> first;
+    std::vector<RecordedStep> second;
+    Cycles c1 = 0;
+    Cycles c2 = 0;
+    Record r = record_pass(anchor, first, c1, nullptr, halt_a, halt_b);
+    const Snapshot between = snapshot();  // the state the second pass starts from
+    if (r == Record::kPass) r = record_pass(anchor, second, c2, &first, halt_a, halt_b);
+    avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
+    no_learning_before_ = avr_->cycle + kLearningBackoff;
+    if (r == Record::kCut) return true;  // an interrupt or a stop: try again later
+    if (r != Record::kPass || c1 != c2) {
+        // A pass that went on too long is a longer loop's (or none): each
+        // try steps up to kMaxPassCycles, so it is refused as soon as passes
+        // that do not repeat are.
+        int& tries = tries_[uint64_t{anchor} << 16 | anchor_sp];
+        tries += r == Record::kTooLong ? kLongTryWeight : 1;
+        if (tries >= kMaxLearningTries) {
+            refuse(anchor, anchor_sp,
+                   r == Record::kTooLong
+                               ? fmt::format("its pass is longer than {} cycles or {} instructions", kMaxPassCycles,
+                                             kMaxPassSteps)
+                               : std::string("its passes do not repeat one instruction path"));
+        }
+        return true;
+    }
+    const PassAnalysis analysis = analyse_pass(second, 0x20, mcu_.sram_start, mcu_.spl);
+    Loop loop;
+    std::string why = analysis.refusal;
+    if (why.empty()) why = accept_io(analysis, loop.timers_read);
+    for (uint16_t a : analysis.carried) {
+        if (!why.empty()) break;
+        if (avr_->data[a] == saved_data_[a]) continue;
+        why = a < 32 ? fmt::format("changes r{} from pass to pass", a)
+                     : fmt::format("changes 0x{:04x} from pass to pass", a);
+    }
+    if (why.empty() && !flags_equal(analysis.carried_flags, between.sreg, avr_->sreg)) {
+        why = "changes an SREG flag from pass to pass";
+    }
+    if (!why.empty()) {
+        refuse(anchor, anchor_sp, why);
+        return true;
+    }
+    loop.info.anchor = anchor;
+    loop.info.pass_cycles = c2;
+    loop.sp = core_.stack_pointer();
+    loop.carried = analysis.carried;
+    loop.carried_flags = analysis.carried_flags;
+    loop.info.pc_low = loop.info.pc_high = anchor;
+    loop.span.min_sp = loop.span.max_sp = loop.sp;
+    loop.span.io_reads = analysis.io_reads;
+    for (const RecordedStep& s : second) {
+        if (s.access.mem_write) {
+            for (unsigned i = 0; i < s.access.count; ++i) {
+                const uint16_t a = s.access.address[i];
+                if (a >= mcu_.sram_start) loop.span.lowest_sram_write = std::min(loop.span.lowest_sram_write, a);
+            }
+        }
+        loop.span.min_sp = std::min(loop.span.min_sp, s.sp);
+        loop.span.max_sp = std::max(loop.span.max_sp, s.sp);
+        loop.pcs.push_back(s.pc);
+        loop.sps.push_back(s.sp);
+        loop.step_ends.push_back(s.cycles_after);
+        loop.accesses.push_back(s.access);
+        const auto d = avr::decode_data_access(core_.flash_word(s.pc), 0);
+        loop.through_pointer.push_back(d && d->pointer != avr::Pointer::kNone);
+        loop.info.pc_low = std::min(loop.info.pc_low, s.pc);
+        loop.info.pc_high = std::max(loop.info.pc_high, s.pc);
+    }
+    // Anchors on one cycle of PCs see its changes of path alike.
+    for (const Loop& l : loops_) {
+        if (l.info.pass_cycles == loop.info.pass_cycles && l.info.pc_low == loop.info.pc_low &&
+            l.info.pc_high == loop.info.pc_high && l.pcs.size() == loop.pcs.size()) {
+            loop.changes = l.changes;
+        }
+    }
+    if (!loop.changes) loop.changes = std::make_shared<ChangeTrack>();
+    link(std::move(loop));
+    return true;
+}
+
+std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
+    for (uint16_t a : analysis.io_reads) {
+        if (a == mcu_.spl || a == mcu_.sph) continue;
+        if (read_observed(avr_, watchers_, a)) return fmt::format("reads {}, which a part watches", io_name(mcu_, a));
+        bool timer = false;
+        for (std::size_t n = 0; n < timers_.size(); ++n) {
+            const auto* t = static_cast<const avr_timer_t*>(timers_[n]);
+            if (a == t->r_tcnt || (t->r_tcnth != 0 && a == t->r_tcnth) || a == t->overflow.raised.reg) {
+                timers_read |= 1U << n;
+                timer = true;
+            }
+        }
+        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
+        const bool pin = std::any_of(mcu_.ports.begin(), mcu_.ports.end(),
+                                     [a](const PortRegisters& p) { return p.pin == a; });
+        if (!timer && !pin && io.r.c != nullptr) {
+            return fmt::format("reads {}, a read with side effects in simavr", io_name(mcu_, a));
+        }
+    }
+    for (uint16_t a : analysis.io_writes) {
+        if (a == mcu_.spl || a == mcu_.sph) continue;
+        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
+        if (io.w.c != nullptr || io.irq != nullptr) return fmt::format("writes {}", io_name(mcu_, a));
+    }
+    return {};
+}
+
+// A PC that anchors loops at other stack depths keeps them: the refusal
+// holds at this SP only.
+void FastForward::refuse(uint32_t anchor, uint16_t sp, std::string reason) {
+    const auto index = static_cast<int32_t>(refused_.size());
+    refused_.push_back(RefusedLoop{anchor, fmt::format("PC 0x{:04x}: {}", anchor, reason), 0});
+    if (slot(anchor) < 0) {
+        slot(anchor) = -2 - index;
+        return;
+    }
+    Loop refusal;
+    refusal.info.anchor = anchor;
+    refusal.sp = sp;
+    refusal.refusal = index;
+    link(std::move(refusal));
+}
+
+}  // namespace ddmr::hil
