@@ -6,10 +6,13 @@
 #include <sim_interrupts.h>
 #include <sim_regbit.h>
 
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <string>
+#include <utility>
 
 #include "hil/avr_core.hpp"
 #include "hil/fast_forward_loop.hpp"
@@ -32,6 +35,8 @@ constexpr Cycles kWindowBeforePasses = 3;
 constexpr Cycles kWindowAfterPasses = 2;
 /// A period shorter than this many slacks is not predicted.
 constexpr Cycles kMinPeriodSlacks = 8;
+/// Checked passes in a row that keep the path but change a loop-carried byte: the loop is refused.
+constexpr unsigned kMaxFutileTries = 8;
 /// Changes predicted in a row before one is located again.
 constexpr unsigned kMaxBlindChanges = 16;
 /// Cycles kept between a verification pass's end and the bound: an
@@ -82,6 +87,7 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
     if (here >= 0) {
         Loop& loop = loops_[static_cast<std::size_t>(here)];
         if (loop.refusal == kUnknown) return try_jump(loop);
+        if (enter_learned_pass(halt_a, halt_b)) return true;  // refused here, but on another loop's pass
         ++refused_[static_cast<std::size_t>(loop.refusal)].visits;
         return false;
     }
@@ -327,6 +333,22 @@ bool FastForward::try_jump(Loop& loop) {
         no_jump_before_ = changes_by;
         note_change(loop, changes_by);
     }
+    if (loop.futile >= kMaxFutileTries) {
+        // Checked passes kept the path but not a loop-carried byte, time
+        // after time: the byte matched twice by chance when the loop was
+        // learned (an SREG copy whose N and Z flags follow a time). Refused
+        // at this anchor and SP; the same passes stay reachable from the
+        // loop's other anchors.
+        const auto index = static_cast<int32_t>(&loop - loops_.data());
+        loop.refusal = static_cast<int32_t>(refused_.size());
+        std::string why = fmt::format("PC 0x{:04x}: a loop-carried byte changed at {} checked passes in a row",
+                                      loop.info.anchor, kMaxFutileTries);
+        refused_.push_back(RefusedLoop{loop.info.anchor, std::move(why), 0});
+        for (std::size_t i = 1; i < loop.pcs.size(); ++i) {
+            const auto it = on_pass_.find(pass_key(loop.pcs[i], loop.sps[i]));
+            if (it != on_pass_.end() && it->second == index) on_pass_.erase(it);
+        }
+    }
     return ran;
 }
 
@@ -410,7 +432,9 @@ FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cyc
     const Snapshot before = snapshot();
     avr_->run_cycle_limit = 1;
     avr_->cycle = now + k * pass;
-    const bool verified = verify_pass(loop) && avr_->cycle == end && carried_unchanged(loop, before);
+    const bool path_held = verify_pass(loop) && avr_->cycle == end;
+    const bool verified = path_held && carried_unchanged(loop, before);
+    loop.futile = path_held && !verified ? loop.futile + 1 : 0;
     avr_->run_cycle_limit = core_.free_run_limit();
     Jump outcome = Jump::kSkipped;
     Cycles stop_at = 0;
@@ -437,7 +461,7 @@ FastForwardStats FastForward::stats() const {
     FastForwardStats s;
     s.cycles_skipped = cycles_skipped_;
     for (const Loop& l : loops_) {
-        if (l.refusal != kUnknown) continue;
+        if (l.refusal != kUnknown && l.info.skips == 0) continue;
         s.skips += l.info.skips;
         s.mismatches += l.info.mismatches;
         s.taken_back += l.info.taken_back;

@@ -44,6 +44,8 @@ struct FastForward::Loop {
     int32_t next_at_pc = kUnknown;
     /// >= 0: not a loop but a refusal at this PC and SP (refused_'s index).
     int32_t refusal = kUnknown;
+    /// Checked passes in a row that kept the path but changed a carried byte.
+    unsigned futile = 0;
 };
 
 /// The changes of path of a loop whose path changes at a steady period
