@@ -8,18 +8,34 @@
 
 namespace ddmr::plant {
 
+namespace {
+
+/// The spot's sample directions: every 90 degrees at half the radius, then
+/// every 45 degrees on the rim (unit vectors, computed once).
+struct SpotDirections {
+    std::array<Eigen::Vector2d, 4> inner;
+    std::array<Eigen::Vector2d, 8> rim;
+    SpotDirections() {
+        for (int k = 0; k < 4; ++k) {
+            const double a = k * kPi / 2.0;
+            inner[static_cast<std::size_t>(k)] = Eigen::Vector2d(std::cos(a), std::sin(a));
+        }
+        for (int k = 0; k < 8; ++k) {
+            const double a = k * kPi / 4.0;
+            rim[static_cast<std::size_t>(k)] = Eigen::Vector2d(std::cos(a), std::sin(a));
+        }
+    }
+};
+
+}  // namespace
+
 double spot_reflectance(const World& world, const Eigen::Vector2d& p, double spot_diameter_m) {
     if (spot_diameter_m <= 0.0) return reflectance_at(world, p);
+    static const SpotDirections directions;
     const double r = spot_diameter_m / 2.0;
     double sum = reflectance_at(world, p);
-    for (int k = 0; k < 4; ++k) {  // half the radius, every 90 degrees
-        const double a = k * kPi / 2.0;
-        sum += reflectance_at(world, p + 0.5 * r * Eigen::Vector2d(std::cos(a), std::sin(a)));
-    }
-    for (int k = 0; k < 8; ++k) {  // the rim, every 45 degrees
-        const double a = k * kPi / 4.0;
-        sum += reflectance_at(world, p + r * Eigen::Vector2d(std::cos(a), std::sin(a)));
-    }
+    for (const Eigen::Vector2d& d : directions.inner) sum += reflectance_at(world, p + 0.5 * r * d);
+    for (const Eigen::Vector2d& d : directions.rim) sum += reflectance_at(world, p + r * d);
     return sum / 13.0;
 }
 

@@ -39,6 +39,22 @@ Eigen::Vector2d closest_on_arc(const LinePiece& arc, const Eigen::Vector2d& p) {
     return (p - s).squaredNorm() <= (p - e).squaredNorm() ? s : e;
 }
 
+/// Rounding in a distance of points within metres of the origin is far
+/// below this [m].
+constexpr double kRoundingMargin_m = 1e-9;
+
+/// True if `p` lies within `half_m` of the piece's centreline. An arc lies
+/// on its circle, so a point farther than half_m from the circle (by more
+/// than rounding) is farther from the arc: that test needs no angle, and
+/// rejects most pieces of a course; the rest are measured exactly.
+bool within(const LinePiece& piece, const Eigen::Vector2d& p, double half_m) {
+    if (piece.kind == LinePiece::Kind::arc &&
+        std::fabs((p - piece.center_m).norm() - piece.radius_m) > half_m + kRoundingMargin_m) {
+        return false;
+    }
+    return (p - closest_point(piece, p)).norm() <= half_m;
+}
+
 /// Wall `w`'s nearest point inside the cone's angle, or none.
 std::optional<ConeHit> hit_in_cone(const Wall& w, const Cone& cone) {
     const Eigen::Vector2d w0 = w.a_m - cone.origin_m;
@@ -107,7 +123,7 @@ double reflectance_at(const World& world, const Eigen::Vector2d& p) {
     for (auto line = world.lines.rbegin(); line != world.lines.rend(); ++line) {
         const double half = line->width_m / 2.0;
         for (const LinePiece& piece : line->pieces) {
-            if ((p - closest_point(piece, p)).norm() <= half) return line->reflectance;
+            if (within(piece, p, half)) return line->reflectance;
         }
     }
     return world.floor_reflectance;

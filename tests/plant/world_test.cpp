@@ -77,6 +77,35 @@ TEST(World, ThePointIsOnTheLineWithinHalfItsWidth) {
     EXPECT_EQ(reflectance_at(World{}, {0, 0}), kWhiteReflectance);
 }
 
+TEST(World, AnArcCoversWhatIsWithinHalfItsWidthOfItsSweepAndNothingElse) {
+    // A quarter circle of 0.3 m around (1, 0.3) from (1.3, 0.3) to (1, 0.6),
+    // 19 mm wide. reflectance_at first rejects points farther than 9.5 mm
+    // from the whole circle; on a grid that crosses the circle inside and
+    // outside the sweep, round its round ends and the centre, its answer
+    // must be the distance to the arc's nearest point.
+    World w;
+    const LinePiece arc = LinePiece::arc({1, 0.3}, 0.3, 0.0, kPi / 2);
+    w.lines.push_back(tape({arc}));
+    int on = 0;
+    int near_circle_off_sweep = 0;
+    for (int i = -400; i <= 400; ++i) {
+        for (int j = -400; j <= 400; ++j) {
+            const Eigen::Vector2d p(1.0 + i * 0.001, 0.3 + j * 0.001);
+            const bool covered = (p - closest_point(arc, p)).norm() <= 0.0095;
+            EXPECT_EQ(reflectance_at(w, p), covered ? kBlackTapeReflectance : kWhiteReflectance) << p.transpose();
+            on += covered ? 1 : 0;
+            const double off_circle = std::fabs((p - Eigen::Vector2d(1, 0.3)).norm() - 0.3);
+            near_circle_off_sweep += off_circle <= 0.0095 && !covered ? 1 : 0;
+        }
+    }
+    // A 19 mm band along a quarter of a 0.3 m circle (0.471 m): ~0.0090 m^2,
+    // ~9000 points of 1 mm^2, plus the two round ends; and the three other
+    // quarters of the circle's band lie near the circle but off the sweep.
+    EXPECT_GT(on, 8500);
+    EXPECT_LT(on, 9600);
+    EXPECT_GT(near_circle_off_sweep, 20000);
+}
+
 TEST(World, WhereLinesCrossTheOneListedLastIsOnTop) {
     World w;
     w.lines.push_back(tape({LinePiece::segment({0, -1}, {0, 1})}, 0.05));
