@@ -237,10 +237,15 @@ void erase_owned(std::vector<Entry>& list, const void* owner) {
 
 }  // namespace
 
-void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook) {
+void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads) {
     set_owned(instruction_hooks_, owner, std::move(hook));
+    opaque_hooks_.erase(std::remove(opaque_hooks_.begin(), opaque_hooks_.end(), owner), opaque_hooks_.end());
+    if (reads == HookReads::kAnything) opaque_hooks_.push_back(owner);
 }
-void AvrCore::remove_instruction_hook(const void* owner) { erase_owned(instruction_hooks_, owner); }
+void AvrCore::remove_instruction_hook(const void* owner) {
+    erase_owned(instruction_hooks_, owner);
+    opaque_hooks_.erase(std::remove(opaque_hooks_.begin(), opaque_hooks_.end(), owner), opaque_hooks_.end());
+}
 void AvrCore::add_reset_listener(const void* owner, std::function<void()> fn) {
     set_owned(reset_listeners_, owner, std::move(fn));
 }
@@ -284,11 +289,21 @@ RunStop AvrCore::run_until(Cycles target) {
         avr->run_cycle_limit = 1;  // one instruction per avr_run
         avr->run_cycle_count = 1;
         stepping_ = true;
+        // Fast-forward looks for loops at the PCs reached every
+        // kSamplePeriod cycles, as where free-running batches end.
+        const bool skips = fast_forward_ && hooks_replayable();
+        Cycles next_look = avr->cycle + FastForward::kSamplePeriod;
         while (!flag.reached && !stop_requested_) {
             const int state = avr_run(avr);
-            for (const auto& h : instruction_hooks_) h.hook();
+            run_instruction_hooks();
             if (step_watch_ != nullptr) step_watch_(step_watch_context_);
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
+            if (!skips || step_watch_ != nullptr || avr->cycle < next_look) continue;
+            next_look = avr->cycle + FastForward::kSamplePeriod;
+            if (fast_forward_->after_batch(flag.reached, stop_requested_)) {
+                if (step_watch_ != nullptr) step_watch_(step_watch_context_);
+                if (event_pending()) break;
+            }
         }
         stepping_ = false;
         avr->run_cycle_limit = free_run_limit();
@@ -345,7 +360,7 @@ void AvrCore::forget_replay(const void* param) {
 }
 
 Cycles AvrCore::free_run_limit() const {
-    if (step_watch_ != nullptr) return 1;
+    if (step_watch_ != nullptr || stepping_) return 1;
     // Fast-forward finds loops by the PCs batches end at: end one at least
     // every kSamplePeriod cycles (at cycle timers alone they can be far apart).
     return fast_forward_ ? std::min(config_.run_cycle_limit, FastForward::kSamplePeriod) : config_.run_cycle_limit;

@@ -100,14 +100,27 @@ public:
     /// part calls request_stop() / a stop_after() deadline passes (kCondition).
     RunStop run_until(Cycles target);
 
+    /// What an instruction hook reads of the machine after an instruction.
+    /// kPcSpCycle: only pc(), stack_pointer() and cycle() (the profilers);
+    /// fast-forward then stays on and shows the hook every instruction of a
+    /// skipped pass, with the PC, SP and cycle each had (run_instruction_hooks).
+    /// kAnything (avr-gdb): nothing is skipped while the hook is installed.
+    enum class HookReads { kAnything, kPcSpCycle };
     /// Adds a hook called after every instruction (in the order added) while
     /// any hook is installed: run_until then steps one instruction per
     /// avr_run, which is exact but slower (profiling, debugging). `owner`
     /// identifies it for remove_instruction_hook(); one hook per owner (adding
     /// again replaces it). Keep hooks short; they must not throw.
-    void add_instruction_hook(const void* owner, std::function<void()> hook);
+    void add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads = HookReads::kAnything);
     void remove_instruction_hook(const void* owner);
     bool has_instruction_hooks() const { return !instruction_hooks_.empty(); }
+    /// True if every installed instruction hook is HookReads::kPcSpCycle.
+    bool hooks_replayable() const { return opaque_hooks_.empty(); }
+    /// Calls every instruction hook once, as after an instruction
+    /// (fast-forward's own steps, and its replays of skipped passes).
+    void run_instruction_hooks() const {
+        for (const auto& h : instruction_hooks_) h.hook();
+    }
 
     /// A function called before every instruction (PC at it, registers as it
     /// will see them) while set: right after each avr_run, before any stop,
@@ -179,9 +192,10 @@ public:
     }
     void forget_replay(const void* param);
     /// How a part's watch of an I/O register takes the reads simavr also
-    /// notifies: kIgnored if a notification of the register's unchanged
-    /// value changes nothing in the part (then fast-forward may skip loops
-    /// that poll the register); kMatter otherwise.
+    /// notifies, and writes of the value the register holds: kIgnored if a
+    /// notification of the register's unchanged value changes nothing in
+    /// the part (then fast-forward may skip loops that read the register,
+    /// or write it that value); kMatter otherwise.
     enum class IoReads { kMatter, kIgnored };
     /// simavr's memory IRQ of the I/O register at data address `address`
     /// (raised on every write and read), with `notify(param)` registered on
@@ -240,6 +254,7 @@ private:
         std::function<void()> hook;
     };
     std::vector<OwnedCallback> instruction_hooks_;
+    std::vector<const void*> opaque_hooks_;  ///< owners of HookReads::kAnything hooks
     StepWatch step_watch_ = nullptr;
     void* step_watch_context_ = nullptr;
     /// run_until is stepping for instruction hooks or a condition (limit 1).

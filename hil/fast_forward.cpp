@@ -63,6 +63,7 @@ FastForward::FastForward(AvrCore& core, const std::vector<ReplayableTimer>& repl
       state_((mcu_.flash_bytes + 1) / 2, kUnknown),
       path_(state_.size(), kUnknown) {
     for (avr_io_t* io : simavr_io_modules(avr_, "timer")) timers_.push_back(io);
+    for (avr_io_t* io : simavr_io_modules(avr_, "port")) ports_.push_back(io);
     saved_data_.resize(static_cast<std::size_t>(avr_->ramend) + 1);
 }
 
@@ -92,6 +93,7 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
         return false;
     }
     if (enter_learned_pass(halt_a, halt_b)) return true;
+    if (ambiguous_.count(pass_key(pc, sp)) != 0) return false;  // on a learned pass, at which visit?
     if (st < kUnknown) {
         ++refused_[static_cast<std::size_t>(-2 - st)].visits;
         return false;
@@ -136,7 +138,11 @@ FastForward::Defer FastForward::deferrable(const avr_cycle_timer_slot_t& slot, c
     for (const ReplayableTimer& r : replayable_) {
         if (r.fn != slot.timer || r.param != param) continue;
         if (!r.may_replay(loop.span)) return Defer::kNo;
-        return r.runs == ReplayableTimer::Runs::kAtOwnCycle ? Defer::kAtOwnCycle : Defer::kReplay;
+        if (r.runs == ReplayableTimer::Runs::kAfterJump) return Defer::kReplay;
+        // Instruction hooks are shown the skipped passes after the jump (and
+        // what they report, a VCD's loop iterations, must come in time order
+        // with what the step reports): the step bounds the jump.
+        return core_.has_instruction_hooks() ? Defer::kNo : Defer::kAtOwnCycle;
     }
     for (std::size_t n = 0; n < timers_.size(); ++n) {
         if (timers_[n] != param) continue;
@@ -160,27 +166,29 @@ Cycles FastForward::bound(const Loop& loop) const {
     return std::numeric_limits<Cycles>::max();
 }
 
-bool FastForward::step_one() {
+bool FastForward::step_one(bool silent) {
     avr_->run_cycle_count = 1;
     avr_run(avr_);
+    if (!silent) core_.run_instruction_hooks();
     // A watchdog reset (simavr swapped its run callback) is AvrCore's to take.
     return avr_->state == cpu_Running && !core_.event_pending();
 }
 
-bool FastForward::verify_pass(const Loop& loop) {
+FastForward::Verify FastForward::verify_pass(const Loop& loop) {
     for (std::size_t i = 0; i < loop.pcs.size(); ++i) {
         const uint32_t pc = avr_->pc;
-        if (pc != loop.pcs[i]) return false;
+        if (pc != loop.pcs[i]) return Verify::kLeft;
         if (loop.through_pointer[i]) {
             const StepAccess a = step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu());
             const StepAccess& b = loop.accesses[i];
             if (a.count != b.count || !std::equal(a.address.begin(), a.address.begin() + a.count, b.address.begin())) {
-                return false;
+                return Verify::kLeft;
             }
         }
-        if (!step_one()) return false;
+        if (loop.checked_write[i] && !write_inert(pc)) return Verify::kNotInert;  // before it is made
+        if (!step_one(/*silent=*/true)) return Verify::kLeft;
     }
-    return avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp;
+    return avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp ? Verify::kHeld : Verify::kLeft;
 }
 
 bool FastForward::carried_unchanged(const Loop& loop, const Snapshot& before) const {
@@ -316,6 +324,7 @@ bool FastForward::try_jump(Loop& loop) {
     if (aim == 0) return false;  // the change is due: it runs
     Cycles changes_by = kNoChangeSeen;  // the path is seen to change by then
     bool ran = false;
+    bool differs_now = false;
     for (int attempt = 0; attempt < kMaxJumpAttempts; ++attempt) {
         const Cycles now = avr_->cycle;
         const Cycles cap = changes_by == kNoChangeSeen ? aim : now + (changes_by - now) / 2;
@@ -324,12 +333,20 @@ bool FastForward::try_jump(Loop& loop) {
         ran = true;
         if (outcome == Jump::kStopDeferred) return true;
         if (outcome == Jump::kSkipped && changes_by == kNoChangeSeen) return true;
+        // The first check left the path. If the path from here is already
+        // another (an input differs since the loop was learned: a line
+        // sensor's pin), no jump from here holds: one pass runs for real
+        // to see (its cycles are not lost), before any bisection.
+        if (outcome == Jump::kMismatch && attempt == 0 && !pass_runs_on_path(loop)) {
+            differs_now = true;
+            break;
+        }
     }
     // Located: the change is within the shortest jump (the bisection stopped
     // on its own cap). If an event or the attempts cut it short, the passes
     // run on to the event, which may move the change, and the next try starts afresh.
     const Cycles shortest = (kMinPassesPerJump + 2) * loop.info.pass_cycles + kVerifyMargin;
-    if (changes_by != kNoChangeSeen && changes_by - avr_->cycle <= 2 * shortest) {
+    if (!differs_now && changes_by != kNoChangeSeen && changes_by - avr_->cycle <= 2 * shortest) {
         no_jump_before_ = changes_by;
         note_change(loop, changes_by);
     }
@@ -341,8 +358,9 @@ bool FastForward::try_jump(Loop& loop) {
         // loop's other anchors.
         const auto index = static_cast<int32_t>(&loop - loops_.data());
         loop.refusal = static_cast<int32_t>(refused_.size());
-        std::string why = fmt::format("PC 0x{:04x}: a loop-carried byte changed at {} checked passes in a row",
-                                      loop.info.anchor, kMaxFutileTries);
+        std::string why = fmt::format(
+            "PC 0x{:04x}: a loop-carried byte changed, or an I/O write was not inert, at {} checked passes in a row",
+            loop.info.anchor, kMaxFutileTries);
         refused_.push_back(RefusedLoop{loop.info.anchor, std::move(why), 0});
         for (std::size_t i = 1; i < loop.pcs.size(); ++i) {
             const auto it = on_pass_.find(pass_key(loop.pcs[i], loop.sps[i]));
@@ -350,6 +368,20 @@ bool FastForward::try_jump(Loop& loop) {
         }
     }
     return ran;
+}
+
+// Steps one pass from the anchor for real (the instruction hooks see it);
+// true if it followed the loop's path back to the anchor. Stops where the
+// run leaves the path, enters an interrupt, or a step asks for a stop. Not
+// run (true: bisect as before) if the pass could reach the next bound (the
+// run's target among them: stepping must not pass it).
+bool FastForward::pass_runs_on_path(const Loop& loop) {
+    if (avr_->cycle + loop.info.pass_cycles + kVerifyMargin >= bound(loop)) return true;
+    avr_->run_cycle_limit = 1;
+    std::size_t i = 0;
+    while (i < loop.pcs.size() && avr_->pc == loop.pcs[i] && step_one() && !core_.stop_requested()) ++i;
+    avr_->run_cycle_limit = core_.free_run_limit();
+    return i == loop.pcs.size() && avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp;
 }
 
 // Where a jump should stop short of the loop's next predicted change of
@@ -432,9 +464,10 @@ FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cyc
     const Snapshot before = snapshot();
     avr_->run_cycle_limit = 1;
     avr_->cycle = now + k * pass;
-    const bool path_held = verify_pass(loop) && avr_->cycle == end;
+    const Verify checked = verify_pass(loop);
+    const bool path_held = checked == Verify::kHeld && avr_->cycle == end;
     const bool verified = path_held && carried_unchanged(loop, before);
-    loop.futile = path_held && !verified ? loop.futile + 1 : 0;
+    loop.futile = (path_held && !verified) || checked == Verify::kNotInert ? loop.futile + 1 : 0;
     avr_->run_cycle_limit = core_.free_run_limit();
     Jump outcome = Jump::kSkipped;
     Cycles stop_at = 0;
@@ -451,10 +484,39 @@ FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cyc
         ++loop.info.skips;
         loop.info.cycles_skipped += k * pass;
         cycles_skipped_ += k * pass;
+        replay_to_hooks(loop, now, k + 1);
     }
     release(loop, held, now);
     if (stop_at != 0) core_.stop_after(stop_at - now);
     return outcome;
+}
+
+void FastForward::set_stack_pointer(uint16_t sp) {
+    avr_->data[mcu_.spl] = static_cast<uint8_t>(sp & 0xFFU);
+    if (mcu_.sph != 0) avr_->data[mcu_.sph] = static_cast<uint8_t>(sp >> 8);
+}
+
+// The instruction hooks see each instruction of the `passes` passes from
+// `now` (the skipped ones and the verification pass) as stepping shows it:
+// after it, with the next PC, the SP and the cycle of its end. The hooks
+// read nothing else (AvrCore::HookReads::kPcSpCycle).
+void FastForward::replay_to_hooks(const Loop& loop, Cycles now, Cycles passes) {
+    if (!core_.has_instruction_hooks()) return;
+    const Cycles end = avr_->cycle;
+    const std::size_t n = loop.pcs.size();
+    for (Cycles j = 0; j < passes; ++j) {
+        const Cycles start = now + j * loop.info.pass_cycles;
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool last = i + 1 == n;
+            avr_->pc = last ? loop.info.anchor : loop.pcs[i + 1];
+            set_stack_pointer(last ? loop.sp : loop.sps[i + 1]);
+            avr_->cycle = start + loop.step_ends[i];
+            core_.run_instruction_hooks();
+        }
+    }
+    avr_->pc = loop.info.anchor;
+    set_stack_pointer(loop.sp);
+    avr_->cycle = end;
 }
 
 FastForwardStats FastForward::stats() const {

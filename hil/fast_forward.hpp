@@ -11,9 +11,13 @@
 // carries its bytes at other addresses. Two passes from it are stepped and
 // recorded (hil/loop_pass.hpp); they must follow the same instruction path
 // in the same cycles, touch only I/O whose reads have no side effects
-// (plain registers, TCNTn, PINx) and write no I/O but SREG, and leave every
+// (plain registers, TCNTn, PINx), write I/O registers only with the value
+// they hold where simavr's handling of that write changes nothing
+// (fast_forward_write.cpp: PORTx, DDRx, TCCRnx, OCRnx), and leave every
 // loop-carried byte as it found it. Otherwise the anchor is refused, with
-// the reason.
+// the reason. A PC the loop passes several times per period (digitalWrite()
+// called four times by each pass of loop()) has passes that differ: the
+// period is found, and the loop is learned from a PC it passes once.
 //
 // Jump: at an anchor, with no interrupt pending, the next cycle timer that
 // may change what the loop reads or be observed (a timer that raises an
@@ -33,15 +37,20 @@
 //
 // Learning is in fast_forward_learn.cpp, jumps in fast_forward.cpp.
 //
-// Not used while instruction hooks or a step watch are installed (the
-// profilers, the race detector inside an ISR) or gdb serves the run: the
-// caller switches it off. Not thread-safe (one per AvrCore).
+// Instruction hooks that read only the PC, SP and cycle (the profilers:
+// AvrCore::HookReads::kPcSpCycle) see every instruction fast-forward steps,
+// and every instruction of a skipped pass afterwards, with the PC, SP and
+// cycle it had (replay_to_hooks): what they count is what stepping gives.
+// A verification pass is shown only once it is kept. Not used while another
+// instruction hook or a step watch is installed (gdb, the race detector
+// inside an ISR). Not thread-safe (one per AvrCore).
 
 #include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "hil/cycle_time.hpp"
@@ -155,14 +164,28 @@ private:
     struct ChangeTrack;
     struct Snapshot;
     enum : int32_t { kUnknown = -1 };
-    bool learn(uint32_t anchor, const bool& halt_a, const bool& halt_b);
-    /// How a recorded pass ended.
-    enum class Record { kPass, kDiffers, kTooLong, kCut };
+    bool learn(uint32_t anchor, const bool& halt_a, const bool& halt_b, bool seek_period = true);
+    bool learn_period(const bool& halt_a, const bool& halt_b);
+    /// How a recorded pass ended (kWrites: it was about to make an I/O write
+    /// that is not inert, write_inert).
+    enum class Record { kPass, kDiffers, kTooLong, kCut, kWrites };
+    [[nodiscard]] std::string learning_refusal(Record r) const;
     Record record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
                        const std::vector<RecordedStep>* follow, const bool& halt_a, const bool& halt_b);
     std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
+    // I/O writes (fast_forward_write.cpp).
+    enum class WriteClass { kPlain, kPort, kTimerControl, kTimerCompare, kOther };
+    [[nodiscard]] WriteClass write_class(uint16_t address) const;
+    [[nodiscard]] bool write_inert(uint32_t pc) const;
+    [[nodiscard]] bool port_write_inert(const void* port) const;
+    [[nodiscard]] bool low_level_interrupt_at(char port, unsigned bit) const;
+    [[nodiscard]] bool compare_write_inert(uint16_t address) const;
+    [[nodiscard]] std::string accept_writes(const PassAnalysis& analysis) const;
+    [[nodiscard]] bool io_observed(uint16_t address) const;
+    [[nodiscard]] bool writes_checked_io(const StepAccess& access) const;
     struct Held;
     bool try_jump(Loop& loop);
+    bool pass_runs_on_path(const Loop& loop);
     static void note_change(Loop& loop, Cycles at);
     Cycles aim_before_change(Loop& loop);
     static constexpr Cycles kNoChangeSeen = ~Cycles{0};
@@ -171,8 +194,13 @@ private:
     Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b);
     enum class Jump { kTooShort, kMismatch, kTakenBack, kStopDeferred, kSkipped };
     Jump jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by);
-    bool verify_pass(const Loop& loop);
-    bool step_one();
+    enum class Verify { kHeld, kLeft, kNotInert };
+    Verify verify_pass(const Loop& loop);
+    /// Steps one instruction; shows it to the instruction hooks unless `silent`
+    /// (a verification pass, which may be taken back).
+    bool step_one(bool silent = false);
+    void replay_to_hooks(const Loop& loop, Cycles now, Cycles passes);
+    void set_stack_pointer(uint16_t sp);
     bool carried_unchanged(const Loop& loop, const Snapshot& before) const;
     Snapshot snapshot();
     void restore(const Snapshot& before);
@@ -205,6 +233,11 @@ private:
     std::vector<Loop> loops_;
     std::vector<RefusedLoop> refused_;
     std::vector<void*> timers_;  ///< simavr's timer modules (their cycle timers' parameter)
+    std::vector<void*> ports_;   ///< simavr's I/O port modules (avr_ioport_t)
+    /// PCs (pass_key) that a learned pass runs through more than once: no
+    /// walk from there (which visit?), and no learning either.
+    std::unordered_set<uint64_t> ambiguous_;
+    uint16_t not_inert_ = 0;  ///< the register of the last write record_pass found not inert
     static constexpr unsigned kHistory = 32;  ///< batch-end PCs kept to find one that comes back
     uint32_t last_pc_[kHistory] = {};
     uint16_t last_sp_[kHistory] = {};

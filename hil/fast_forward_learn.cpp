@@ -21,9 +21,12 @@
 namespace ddmr::hil {
 namespace {
 
-/// A pass longer than this is not a busy-wait loop worth skipping.
-constexpr std::size_t kMaxPassSteps = 400;
-constexpr Cycles kMaxPassCycles = 2000;
+/// A pass longer than this is not a loop worth skipping.
+constexpr std::size_t kMaxPassSteps = 1000;
+constexpr Cycles kMaxPassCycles = 4000;
+/// The instructions recorded to find the period of a PC passed several
+/// times per period: two periods of the longest pass.
+constexpr std::size_t kMaxPeriodSteps = 2 * kMaxPassSteps;
 /// After a learning attempt an interrupt or a stop cut short.
 constexpr Cycles kLearningBackoff = 4096;
 /// Passes that twice left their path before it repeated: refused after this many tries.
@@ -50,8 +53,12 @@ bool read_observed(const avr_t* avr, const std::unordered_map<uint16_t, IoWatche
     return it == watchers.end() || it->second.reads_matter > 0;
 }
 
-/// A register's name for a refusal, from the MCU description where it has one.
-std::string io_name(const McuDescription& mcu, uint16_t a) {
+}  // namespace
+
+using ff_detail::flags_equal;
+using ff_detail::io_name;
+
+std::string ff_detail::io_name(const McuDescription& mcu, uint16_t a) {
     for (const PortRegisters& p : mcu.ports) {
         if (a == p.pin) return fmt::format("PIN{}", p.port);
         if (a == p.ddr) return fmt::format("DDR{}", p.port);
@@ -73,9 +80,6 @@ std::string io_name(const McuDescription& mcu, uint16_t a) {
     return fmt::format("I/O 0x{:02x}", a);
 }
 
-}  // namespace
-
-using ff_detail::flags_equal;
 
 int32_t FastForward::loop_for(uint32_t pc, uint16_t sp) const {
     int32_t i = state_[pc >> 1];
@@ -92,7 +96,16 @@ void FastForward::link(Loop&& loop) {
         for (uint32_t pc : loop.pcs) {
             if (pc != loop.info.anchor && path_[pc >> 1] == kUnknown) path_[pc >> 1] = index;
         }
-        for (std::size_t i = 1; i < loop.pcs.size(); ++i) on_pass_.emplace(pass_key(loop.pcs[i], loop.sps[i]), index);
+        std::unordered_map<uint64_t, int> visits;
+        for (std::size_t i = 0; i < loop.pcs.size(); ++i) ++visits[pass_key(loop.pcs[i], loop.sps[i])];
+        for (std::size_t i = 1; i < loop.pcs.size(); ++i) {
+            const uint64_t key = pass_key(loop.pcs[i], loop.sps[i]);
+            if (visits[key] > 1) {
+                ambiguous_.insert(key);
+            } else {
+                on_pass_.emplace(key, index);
+            }
+        }
     }
     loops_.push_back(std::move(loop));
     for (Loop& l : loops_) l.span.pcs = &l.pcs;  // re-pointed after each growth of loops_
@@ -117,6 +130,10 @@ FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<Record
             return Record::kDiffers;
         }
         steps.push_back({pc, core_.stack_pointer(), step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu())});
+        if (follow != nullptr && writes_checked_io(steps.back().access) && !write_inert(pc)) {
+            not_inert_ = steps.back().access.address[0];
+            return Record::kWrites;
+        }
         if (!step_one() || halt_a || halt_b) return Record::kCut;
         steps.back().cycles_after = static_cast<uint32_t>(avr_->cycle - start);
         if (avr_->pc < vectors_end) return Record::kCut;  // an interrupt
@@ -125,7 +142,7 @@ FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<Record
     return Record::kTooLong;
 }
 
-bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b) {
+bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b, bool seek_period) {
     avr_->run_cycle_limit = 1;
     const uint16_t anchor_sp = core_.stack_pointer();
     std::vector<RecordedStep> first;
@@ -138,6 +155,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
     no_learning_before_ = avr_->cycle + kLearningBackoff;
     if (r == Record::kCut) return true;  // an interrupt or a stop: try again later
+    if (r == Record::kDiffers && seek_period && learn_period(halt_a, halt_b)) return true;
     if (r != Record::kPass || c1 != c2) {
         // A pass that went on too long is a longer loop's (or none): each
         // try steps up to kMaxPassCycles, so it is refused as soon as passes
@@ -145,11 +163,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
         int& tries = tries_[uint64_t{anchor} << 16 | anchor_sp];
         tries += r == Record::kTooLong ? kLongTryWeight : 1;
         if (tries >= kMaxLearningTries) {
-            refuse(anchor, anchor_sp,
-                   r == Record::kTooLong
-                               ? fmt::format("its pass is longer than {} cycles or {} instructions", kMaxPassCycles,
-                                             kMaxPassSteps)
-                               : std::string("its passes do not repeat one instruction path"));
+            refuse(anchor, anchor_sp, learning_refusal(r));
         }
         return true;
     }
@@ -157,6 +171,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     Loop loop;
     std::string why = analysis.refusal;
     if (why.empty()) why = accept_io(analysis, loop.timers_read);
+    if (why.empty()) why = accept_writes(analysis);
     for (uint16_t a : analysis.carried) {
         if (!why.empty()) break;
         if (avr_->data[a] == saved_data_[a]) continue;
@@ -193,6 +208,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
         loop.accesses.push_back(s.access);
         const auto d = avr::decode_data_access(core_.flash_word(s.pc), 0);
         loop.through_pointer.push_back(d && d->pointer != avr::Pointer::kNone);
+        loop.checked_write.push_back(writes_checked_io(s.access));
         loop.info.pc_low = std::min(loop.info.pc_low, s.pc);
         loop.info.pc_high = std::max(loop.info.pc_high, s.pc);
     }
@@ -206,6 +222,46 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b)
     if (!loop.changes) loop.changes = std::make_shared<ChangeTrack>();
     link(std::move(loop));
     return true;
+}
+
+// From wherever the run is (inside the period of a PC whose passes
+// differ): records up to two periods of the longest pass, finds the
+// shortest shift at which the PCs, SPs and instruction cycles repeat over
+// the rest of the record, then steps on to the first PC (with its SP) that
+// one period runs through once, and learns that PC as the loop's anchor.
+bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
+    const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
+    std::vector<uint64_t> keys;
+    std::vector<Cycles> lengths;
+    keys.reserve(kMaxPeriodSteps);
+    lengths.reserve(kMaxPeriodSteps);
+    while (keys.size() < kMaxPeriodSteps) {
+        keys.push_back(pass_key(avr_->pc, core_.stack_pointer()));
+        const Cycles before = avr_->cycle;
+        if (!step_one() || halt_a || halt_b || avr_->pc < vectors_end) return false;
+        lengths.push_back(avr_->cycle - before);
+    }
+    const std::size_t n = keys.size();
+    std::size_t period = 0;
+    for (std::size_t p = 2; p <= n / 2 && period == 0; ++p) {
+        if (keys[p] != keys[0]) continue;
+        bool repeats = true;
+        for (std::size_t i = 0; i + p < n && repeats; ++i) repeats = keys[i] == keys[i + p] && lengths[i] == lengths[i + p];
+        if (repeats) period = p;
+    }
+    if (period == 0) return false;
+    std::size_t once = period;
+    for (std::size_t i = 0; i < period && once == period; ++i) {
+        if (std::count(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(period), keys[i]) == 1) once = i;
+    }
+    if (once == period) return false;
+    for (std::size_t i = 0; i < period && pass_key(avr_->pc, core_.stack_pointer()) != keys[once]; ++i) {
+        if (!step_one() || halt_a || halt_b || avr_->pc < vectors_end) return false;
+    }
+    if (pass_key(avr_->pc, core_.stack_pointer()) != keys[once] || loop_for(avr_->pc, core_.stack_pointer()) != kUnknown) {
+        return false;
+    }
+    return learn(avr_->pc, halt_a, halt_b, /*seek_period=*/false);
 }
 
 std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
@@ -227,12 +283,33 @@ std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timer
             return fmt::format("reads {}, a read with side effects in simavr", io_name(mcu_, a));
         }
     }
-    for (uint16_t a : analysis.io_writes) {
-        if (a == mcu_.spl || a == mcu_.sph) continue;
-        const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
-        if (io.w.c != nullptr || io.irq != nullptr) return fmt::format("writes {}", io_name(mcu_, a));
-    }
     return {};
+}
+
+bool FastForward::io_observed(uint16_t address) const { return read_observed(avr_, watchers_, address); }
+
+bool FastForward::writes_checked_io(const StepAccess& access) const {
+    if (!access.mem_write) return false;
+    for (unsigned i = 0; i < access.count; ++i) {
+        const uint16_t a = access.address[i];
+        if (a >= 0x20 && a < mcu_.sram_start && a != mcu_.spl && a != mcu_.sph &&
+            write_class(a) != WriteClass::kPlain) {
+            return true;
+        }
+    }
+    return false;
+}
+
+std::string FastForward::learning_refusal(Record r) const {
+    switch (r) {
+        case Record::kTooLong:
+            return fmt::format("its pass is longer than {} cycles or {} instructions", kMaxPassCycles, kMaxPassSteps);
+        case Record::kWrites:
+            return fmt::format("writes {} a new value, or where simavr's handling of the write is seen "
+                               "(a pin it raises again that reads otherwise, a PCINT mask bit, a timer it re-arms)",
+                               io_name(mcu_, not_inert_));
+        default: return "its passes do not repeat one instruction path";
+    }
 }
 
 // A PC that anchors loops at other stack depths keeps them: the refusal

@@ -4,11 +4,15 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "hil/fast_forward.hpp"
 
 namespace ddmr::hil::ff_detail {
+
+/// A register's name for a refusal, from the MCU description where it has one.
+std::string io_name(const McuDescription& mcu, uint16_t address);
 
 /// True if simavr's SREG arrays agree on the flags in `mask`.
 inline bool flags_equal(uint8_t mask, const uint8_t* a, const uint8_t* b) {
@@ -33,6 +37,9 @@ struct FastForward::Loop {
     /// follow from the path and SP.
     std::vector<StepAccess> accesses;
     std::vector<bool> through_pointer;
+    /// Per step: it writes an I/O register with a simavr handler or IRQ
+    /// (write_inert is checked before it on each checked pass).
+    std::vector<bool> checked_write;
     std::vector<uint16_t> carried;
     uint8_t carried_flags = 0;  ///< SREG bits read before written, and written
     uint32_t timers_read = 0;  ///< bit n: the pass reads timers_[n]'s TCNT or flags
@@ -44,7 +51,8 @@ struct FastForward::Loop {
     int32_t next_at_pc = kUnknown;
     /// >= 0: not a loop but a refusal at this PC and SP (refused_'s index).
     int32_t refusal = kUnknown;
-    /// Checked passes in a row that kept the path but changed a carried byte.
+    /// Checked passes in a row that kept the path but changed a carried byte
+    /// or were about to make a write that was not inert.
     unsigned futile = 0;
 };
 

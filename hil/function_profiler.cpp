@@ -63,7 +63,7 @@ FunctionProfiler::FunctionProfiler(AvrCore& core, std::size_t max_depth)
                       edge_index(CallEdge::kNoCaller, root, CallEdge::kNoSite)};
     depth_ = 1;
     max_depth_seen_ = 1;
-    core_.add_instruction_hook(this, [this] { on_instruction(); });
+    core_.add_instruction_hook(this, [this] { on_instruction(); }, AvrCore::HookReads::kPcSpCycle);
 }
 
 FunctionProfiler::~FunctionProfiler() { core_.remove_instruction_hook(this); }

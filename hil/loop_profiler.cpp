@@ -33,7 +33,7 @@ LoopProfiler::LoopProfiler(AvrCore& core, const ElfSymbol& mark) : core_(core) {
     begin_ = mark.address;
     end_ = mark.address + mark.size;
     iterations_.reserve(4096);
-    core_.add_instruction_hook(this, [this] { on_instruction(); });
+    core_.add_instruction_hook(this, [this] { on_instruction(); }, AvrCore::HookReads::kPcSpCycle);
     // An iteration cut by a reset is not an iteration.
     core_.add_reset_listener(this, [this] {
         inside_ = false;

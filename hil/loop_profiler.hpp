@@ -12,7 +12,8 @@
 // It watches every instruction (AvrCore's instruction hook: exact, slower):
 // entry is the first instruction of the mark; the return is the first
 // instruction outside it with SP back above the SP at entry (interrupts and
-// callees push below it).
+// callees push below it). It reads only the PC, SP and cycle
+// (HookReads::kPcSpCycle): fast-forward shows it the passes it skips.
 
 #include <cstdint>
 #include <functional>

@@ -44,8 +44,11 @@ PinProbe::PinProbe(AvrCore& core, int pin) : core_(core) {
     }
     info_ = *info;
     const uint16_t registers[] = {info_.ddr_register, info_.port_register, core.mcu().mcucr};
+    // sample() compares the pin's state with the last: a notification of an
+    // unchanged register (a read, a write of the value it holds) changes
+    // nothing. simavr notifies every write of these, a PINx toggle's too.
     for (std::size_t i = 0; i < addresses_.size(); ++i) {
-        core_.watch_io(registers[i], &PinProbe::on_register, this, AvrCore::IoReads::kMatter);
+        core_.watch_io(registers[i], &PinProbe::on_register, this, AvrCore::IoReads::kIgnored);
         addresses_[i] = registers[i];
     }
     last_ = state();
@@ -55,7 +58,7 @@ PinProbe::PinProbe(AvrCore& core, int pin) : core_(core) {
 
 PinProbe::~PinProbe() {
     core_.remove_reset_listener(this);
-    for (uint16_t a : addresses_) core_.unwatch_io(a, &PinProbe::on_register, this, AvrCore::IoReads::kMatter);
+    for (uint16_t a : addresses_) core_.unwatch_io(a, &PinProbe::on_register, this, AvrCore::IoReads::kIgnored);
 }
 
 PinState PinProbe::state() const {

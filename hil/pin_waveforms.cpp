@@ -76,8 +76,12 @@ PinWaveforms::PinWaveforms(AvrCore& core, const std::vector<int>& pins)
 
 PinWaveforms::~PinWaveforms() { core_.remove_reset_listener(this); }
 
+// sample_ports() and sample_timer() compare with the last state sampled:
+// a notification of an unchanged register (a read, a write of the value it
+// holds) changes nothing. simavr notifies every write of the ports' and
+// timers' registers, a PINx toggle's too (as a PORTx notification).
 void PinWaveforms::watch(uint16_t address, Hook* hook) {
-    core_.watch_io(address, &PinWaveforms::on_register, hook, AvrCore::IoReads::kMatter);
+    core_.watch_io(address, &PinWaveforms::on_register, hook, AvrCore::IoReads::kIgnored);
 }
 
 void PinWaveforms::on_register(avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {
@@ -133,6 +137,7 @@ void PinWaveforms::sample_ports() {
     if (changed) {
         ++revision_;
         note_change(core_.cycle());
+        if (port_listener_) port_listener_();
     }
 }
 

@@ -23,7 +23,9 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "hil/avr_core.hpp"
@@ -45,6 +47,13 @@ public:
     ~PinWaveforms();
     PinWaveforms(const PinWaveforms&) = delete;
     PinWaveforms& operator=(const PinWaveforms&) = delete;
+
+    /// Called whenever a watched pin's mode or PORT level changes (a register
+    /// write, a reset), once this part has sampled it: level_at() gives the
+    /// new level. One listener; nullptr removes it. (A VCD follows the pins
+    /// through it: simavr calls the parts watching a register last-added
+    /// first, so a part of its own watching PORTx would run before this one.)
+    void set_port_listener(std::function<void()> listener) { port_listener_ = std::move(listener); }
 
     /// Applies double-buffered OCR/TOP updates due by `cycle` (non-decreasing).
     void advance_to(Cycles cycle);
@@ -128,6 +137,7 @@ private:
     Hook port_hook_{};
     uint64_t changes_ = 0;
     uint64_t revision_ = 0;
+    std::function<void()> port_listener_;
     std::optional<Cycles> first_change_;
 };
 

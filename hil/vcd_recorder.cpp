@@ -142,13 +142,9 @@ VcdRecorder::VcdRecorder(RobotRig& rig, const ElfImage& elf, VcdWriter& writer, 
     rx_irq_ = uart + UART_IRQ_INPUT;
     avr_irq_register_notify(tx_irq_, &VcdRecorder::on_tx, this);
     avr_irq_register_notify(rx_irq_, &VcdRecorder::on_rx, this);
-    for (const PinTrace& t : driver_pin_) {
-        if (t.timer_capable) continue;  // drawn as the plant is driven (step listener)
-        const uint16_t port = board_pin(desc, t.pin)->port_register;
-        if (std::find(port_addresses_.begin(), port_addresses_.end(), port) != port_addresses_.end()) continue;
-        port_addresses_.push_back(port);
-        rig_.core().watch_io(port, &VcdRecorder::on_port_write, this, AvrCore::IoReads::kMatter);
-    }
+    // The other driver pins as the driver's pin model samples them (timer
+    // pins are drawn as the plant is driven: the step listener).
+    rig_.driver().pins().set_port_listener([this] { sample_directions(); });
     rig_.encoders().set_edge_listener([this](int pin, Cycles cycle, bool level) {
         for (PinTrace& t : encoder_) {
             if (t.pin == pin) writer_.change(t.signal, cycle, level ? 1 : 0);
@@ -190,7 +186,7 @@ VcdRecorder::~VcdRecorder() {
     for (PartPinHook& h : part_pins_) avr_irq_unregister_notify(h.irq, &VcdRecorder::on_part_pin, &h);
     rig_.coupler().set_step_listener(nullptr);
     rig_.encoders().set_edge_listener(nullptr);
-    for (uint16_t a : port_addresses_) rig_.core().unwatch_io(a, &VcdRecorder::on_port_write, this, AvrCore::IoReads::kMatter);
+    rig_.driver().pins().set_port_listener(nullptr);
     avr_irq_unregister_notify(rx_irq_, &VcdRecorder::on_rx, this);
     avr_irq_unregister_notify(tx_irq_, &VcdRecorder::on_tx, this);
     for (IsrHook& h : isr_) avr_irq_unregister_notify(h.running, &VcdRecorder::on_isr, &h);
@@ -228,10 +224,6 @@ void VcdRecorder::draw_frame(SerialLine& line, uint8_t byte) {
     }
     writer_.change(line.signal, start + (1 + kDataBits) * bit, 1);  // stop bit, then idle
     line.free_at = start + kFrameBits * bit;
-}
-
-void VcdRecorder::on_port_write(avr_irq_t* /*irq*/, uint32_t /*value*/, void* param) {
-    static_cast<VcdRecorder*>(param)->sample_directions();
 }
 
 void VcdRecorder::sample_directions() {

@@ -19,8 +19,10 @@
 //                      listener), the decoded timer waveform with its edges
 //                      at their exact cycles, or the static level from the
 //                      coupling boundary at which the plant saw it; on any
-//                      other pin: the PORT bit at the cycle of the write
-//                      (simavr iomem notification)
+//                      other pin: its level (the PORT bit of an output,
+//                      the pull-up of an input) from the cycle of the PORTx,
+//                      DDRx or MCUCR write that changed it (PinWaveforms'
+//                      port listener)
 //   <part>.<PORT>      each output of each board part (parts:), e.g.
 //                      shield.Q2: its level from the cycle of each change
 //   isr.isr_<NAME>     one per vector the ELF has a handler for (INT0,
@@ -90,7 +92,6 @@ private:
     static void on_isr(avr_irq_t* irq, uint32_t value, void* param);
     static void on_tx(avr_irq_t* irq, uint32_t value, void* param);
     static void on_rx(avr_irq_t* irq, uint32_t value, void* param);
-    static void on_port_write(avr_irq_t* irq, uint32_t value, void* param);
     static void on_part_pin(avr_irq_t* irq, uint32_t value, void* param);
     void hook_part_pins(const BoardWiring& board, const std::string& scope, std::vector<int> traced);
     void draw_frame(SerialLine& line, uint8_t byte);
@@ -117,7 +118,6 @@ private:
     };
     std::vector<PinTrace> encoder_;     ///< sized once: signals are declared through pointers into it
     std::vector<PinTrace> driver_pin_;  ///< likewise
-    std::vector<uint16_t> port_addresses_;  ///< the PORTx registers watched
     /// Each part output's signal and its listener (removed by the destructor).
     struct PartTrace {
         const LogicSignal* signal = nullptr;

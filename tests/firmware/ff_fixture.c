@@ -27,6 +27,17 @@
  *     up past one value and down past another, three times each in WGM 1
  *     (TOP 0xFF), in WGM 5 with OCR2A = 150 as TOP, and after OCR2A = 90
  *     (a new TOP, taken at the next TOP).
+ *   FF_PORT_WRITES: a kit robot's loop(): both motors of the default board
+ *     at full drive, and every pass sets their four pins (PORTB) and one
+ *     pin's direction (DDRB) again with the values they hold, under cli as
+ *     digitalWrite() and pinMode() do, through one function called four
+ *     times a pass (a PC the pass runs through four times), writes
+ *     TCCR0A and OCR0B (Timer0 in fast PWM) their values, and reads PD2
+ *     (encoder 1): 20 edges. Then loops whose writes are not inert in
+ *     simavr 1.6, each 10 ms: with PCINT2 (PB2, an output) in PCMSK0
+ *     (every PORTB write raises PCIF0); with OC0B (D5) driven by Timer0's
+ *     PWM and a PORTD write each pass (PIN5 follows the waveform, PORT5
+ *     does not); and one that sets a pin low and high each pass.
  *   FF_DELAY_MS: the Arduino core's delay() algorithm (a millisecond
  *     counted down each time us() has moved on 1000 us: the path changes
  *     every 16,000 cycles), 100 ms called from run() and 100 ms from three
@@ -194,8 +205,65 @@ static void run(void) {
     deeper(3);
     event("delay", 200);
 }
+#elif defined(FF_PORT_WRITES)
+static __attribute__((noinline)) void set_pin(volatile uint8_t* port, uint8_t bit, uint8_t high) {
+    const uint8_t sreg = SREG;
+    cli();
+    if (high) {
+        *port |= bit;
+    } else {
+        *port &= (uint8_t)~bit;
+    }
+    SREG = sreg;
+}
+static __attribute__((noinline)) void make_output(volatile uint8_t* ddr, uint8_t bit) {
+    const uint8_t sreg = SREG;
+    cli();
+    *ddr |= bit;
+    SREG = sreg;
+}
+static uint8_t drive_pass(void) {
+    make_output(&DDRB, _BV(PB2));
+    set_pin(&PORTB, _BV(PB2), 1);
+    set_pin(&PORTB, _BV(PB3), 1);
+    set_pin(&PORTB, _BV(PB4), 1);
+    set_pin(&PORTB, _BV(PB5), 1);
+    TCCR0A |= _BV(WGM00);
+    OCR0B = 0;
+    return PIND & _BV(PD2);
+}
+static void for_10_ms(void (*pass)(void)) {
+    const uint32_t start = us();
+    while (us() - start < 10000U) pass();
+}
+static void portb_pass(void) { set_pin(&PORTB, _BV(PB3), 1); }
+static void portd_pass(void) { set_pin(&PORTD, _BV(PD7), 1); }
+static void toggle_pass(void) {
+    set_pin(&PORTB, _BV(PB5), 0);
+    set_pin(&PORTB, _BV(PB5), 1);
+}
+static void run(void) {
+    DDRB |= _BV(PB2) | _BV(PB3) | _BV(PB4) | _BV(PB5); /* D10..D13 */
+    for (uint8_t i = 0; i < 20; ++i) {
+        const uint8_t level = drive_pass();
+        while (drive_pass() == level) {
+        }
+    }
+    event("edges", 20);
+    PCMSK0 = _BV(PCINT2);
+    for_10_ms(portb_pass);
+    event("pcmsk", PCIFR);
+    PCMSK0 = 0;
+    DDRD |= _BV(PD5) | _BV(PD7);
+    OCR0B = 100;
+    TCCR0A |= _BV(COM0B1);
+    for_10_ms(portd_pass);
+    event("pwm", OCR0B);
+    for_10_ms(toggle_pass);
+    event("toggle", PINB);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_DELAY_MS"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS"
 #endif
 
 int main(void) {

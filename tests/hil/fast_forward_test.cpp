@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "hil/function_profiler.hpp"
 #include "hil/session.hpp"
 #include "support/loopback_tcp.hpp"
 #include "support/test_paths.hpp"
@@ -177,6 +178,26 @@ TEST(FastForward, AFlagRaisedInsideASkipIsStampedAtItsOwnCycle) {
     EXPECT_GT(s.cycles_skipped, 0U);
 }
 
+TEST(FastForward, SkipsAKitRobotsLoopThatWritesThePinsTheValuesTheyHold) {
+    // FF_PORT_WRITES: a loop() that sets the motor pins (PORTB), a pin's
+    // direction (DDRB), TCCR0A and OCR0B again each pass, through a function
+    // the pass runs through four times, and reads encoder 1's pin: skipped,
+    // learned from a PC the pass runs through once. Then writes that are not
+    // inert in simavr 1.6 (a PCMSK0 bit on an output, a PORTD write beside
+    // Timer0's PWM on OC0B, a pin set low and high each pass), exact as well.
+    const FastForwardStats s = expect_identical_states("ff_port_writes", every(99'989, 6'400'000));
+    uint64_t writing_loop_skipped = 0;
+    for (const SkippedLoop& l : s.loops) {
+        const auto passes_at = [&l](uint32_t pc) { return std::count(l.path.begin(), l.path.end(), pc); };
+        const bool repeats_a_pc = std::any_of(l.path.begin(), l.path.end(), [&](uint32_t pc) { return passes_at(pc) > 1; });
+        if (repeats_a_pc && passes_at(l.anchor) == 1) writing_loop_skipped += l.cycles_skipped;
+    }
+    EXPECT_GT(writing_loop_skipped, 1'000'000U);
+    bool toggle_refused = false;
+    for (const RefusedLoop& r : s.refused) toggle_refused |= r.reason.find("writes PORTB a new value") != std::string::npos;
+    EXPECT_TRUE(toggle_refused);
+}
+
 TEST(FastForward, PollsTheCountOfAPhaseCorrectTimerExactly) {
     // FF_TCNT2_POLL: `while (TCNT2 < high) {}` and `while (TCNT2 > low) {}`
     // on Timer2 counting 0..TOP..0 (PhaseCorrectTimer), with TOP 0xFF, then
@@ -212,6 +233,72 @@ TEST(FastForward, PredictsTheMillisecondsOfADelayAtEveryStackDepth) {
     EXPECT_GT(static_cast<double>(first_skipped) / static_cast<double>(first_end), 0.85);
     EXPECT_GT(static_cast<double>(skipped() - first_skipped) / static_cast<double>(second_end - second_start), 0.75);
     EXPECT_LT(on.session.core().fast_forward()->stats().mismatches, 150U);  // 200 changes of path
+}
+
+/// An instruction hook that reads only the PC, SP and cycle: a digest of
+/// every (PC, SP, cycle) it was shown, in order.
+struct StepDigest {
+    explicit StepDigest(AvrCore& core) : core_(core) {
+        core_.add_instruction_hook(this, [this] { on_step(); }, AvrCore::HookReads::kPcSpCycle);
+    }
+    ~StepDigest() { core_.remove_instruction_hook(this); }
+    StepDigest(const StepDigest&) = delete;
+    StepDigest& operator=(const StepDigest&) = delete;
+    void on_step() {
+        for (const uint64_t v : {uint64_t{core_.pc()}, uint64_t{core_.stack_pointer()}, core_.cycle()}) {
+            digest = (digest ^ v) * 0x100000001b3ULL;  // FNV-1a over the three values
+        }
+        ++steps;
+    }
+    AvrCore& core_;
+    uint64_t digest = 0xcbf29ce484222325ULL;
+    uint64_t steps = 0;
+};
+
+TEST(FastForward, InstructionHooksSeeEverySkippedInstructionAsSteppingShowsIt) {
+    // FF_DELAY_MS with a function profiler and a (PC, SP, cycle) digest:
+    // fast-forward stays on, and shows the hooks each instruction of the
+    // passes it skips, with the PC, SP and cycle it had, in order. Both
+    // must come out as without fast-forward.
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / "ff_delay_ms.elf");
+    Twin on(elf, true);
+    Twin off(elf, false);
+    StepDigest on_digest(on.session.core());
+    StepDigest off_digest(off.session.core());
+    FunctionProfiler on_profile(on.session.core());
+    FunctionProfiler off_profile(off.session.core());
+    for (Twin* r : {&on, &off}) EXPECT_EQ(r->session.run(3'600'000), SessionStop::kReachedCycle);
+    EXPECT_EQ(on_digest.steps, off_digest.steps);
+    EXPECT_EQ(on_digest.digest, off_digest.digest);
+    const ProfileScope a = on_profile.whole_run();
+    const ProfileScope b = off_profile.whole_run();
+    EXPECT_EQ(a.cycles, b.cycles);
+    ASSERT_EQ(a.functions.size(), b.functions.size());
+    for (std::size_t f = 0; f < a.functions.size(); ++f) {
+        EXPECT_EQ(a.functions[f].calls, b.functions[f].calls) << on_profile.map().function(static_cast<FunctionId>(f)).name;
+        EXPECT_EQ(a.functions[f].self_cycles, b.functions[f].self_cycles) << f;
+        EXPECT_EQ(a.functions[f].inclusive_cycles, b.functions[f].inclusive_cycles) << f;
+    }
+    EXPECT_EQ(a.word_cycles, b.word_cycles);
+    EXPECT_EQ(on.bytes.text, off.bytes.text);
+    const FastForwardStats s = on.session.core().fast_forward()->stats();
+    // The coupling step (every 1000 cycles) bounds each skip while hooks are installed.
+    EXPECT_GT(static_cast<double>(s.cycles_skipped), 0.5 * 3'600'000);
+}
+
+TEST(FastForward, AnInstructionHookThatReadsMoreTurnsSkippingOff) {
+    // A hook that may read anything (avr-gdb's) sees the machine after every
+    // instruction: nothing is skipped while it is installed.
+    const ElfImage elf = ElfImage::read(test::test_firmware_dir() / "ff_delay_ms.elf");
+    Twin on(elf, true);
+    uint64_t steps = 0;
+    on.session.core().add_instruction_hook(&steps, [&steps] { ++steps; });
+    EXPECT_EQ(on.session.run(1'000'000), SessionStop::kReachedCycle);
+    EXPECT_EQ(on.session.core().fast_forward()->stats().cycles_skipped, 0U);
+    on.session.core().remove_instruction_hook(&steps);
+    EXPECT_EQ(on.session.run(2'000'000), SessionStop::kReachedCycle);
+    EXPECT_GT(on.session.core().fast_forward()->stats().cycles_skipped, 500'000U);
+    EXPECT_GT(steps, 300'000U);
 }
 
 TEST(FastForward, AWatchdogResetWhileItStepsIsTheCoresReset) {
