@@ -337,7 +337,7 @@ bool FastForward::try_jump(Loop& loop) {
         // another (an input differs since the loop was learned: a line
         // sensor's pin), no jump from here holds: one pass runs for real
         // to see (its cycles are not lost), before any bisection.
-        if (outcome == Jump::kMismatch && attempt == 0 && !pass_runs_on_path(loop)) {
+        if (outcome == Jump::kMismatch && attempt == 0 && loop.info.pass_cycles >= kSamplePeriod && !pass_runs_on_path(loop)) {
             differs_now = true;
             break;
         }

@@ -22,11 +22,12 @@ namespace ddmr::hil {
 namespace {
 
 /// A pass longer than this is not a loop worth skipping.
-constexpr std::size_t kMaxPassSteps = 1000;
-constexpr Cycles kMaxPassCycles = 4000;
-/// The instructions recorded to find the period of a PC passed several
-/// times per period: two periods of the longest pass.
+constexpr std::size_t kMaxPassSteps = 600;
+constexpr Cycles kMaxPassCycles = 2000;
+/// What is recorded to find the period of a PC passed several times per
+/// period: two periods of the longest pass.
 constexpr std::size_t kMaxPeriodSteps = 2 * kMaxPassSteps;
+constexpr Cycles kMaxPeriodCycles = 2 * kMaxPassCycles;
 /// After a learning attempt an interrupt or a stop cut short.
 constexpr Cycles kLearningBackoff = 4096;
 /// Passes that twice left their path before it repeated: refused after this many tries.
@@ -155,13 +156,17 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
     avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
     no_learning_before_ = avr_->cycle + kLearningBackoff;
     if (r == Record::kCut) return true;  // an interrupt or a stop: try again later
-    if (r == Record::kDiffers && seek_period && learn_period(halt_a, halt_b)) return true;
+    int& tries = tries_[uint64_t{anchor} << 16 | anchor_sp];
+    bool long_try = r == Record::kTooLong;
+    if (r == Record::kDiffers && seek_period && tries == 0) {  // the period is looked for once per anchor
+        if (learn_period(halt_a, halt_b)) return true;
+        long_try = true;  // it stepped up to two long passes
+    }
     if (r != Record::kPass || c1 != c2) {
         // A pass that went on too long is a longer loop's (or none): each
         // try steps up to kMaxPassCycles, so it is refused as soon as passes
         // that do not repeat are.
-        int& tries = tries_[uint64_t{anchor} << 16 | anchor_sp];
-        tries += r == Record::kTooLong ? kLongTryWeight : 1;
+        tries += long_try ? kLongTryWeight : 1;
         if (tries >= kMaxLearningTries) {
             refuse(anchor, anchor_sp, learning_refusal(r));
         }
@@ -235,7 +240,8 @@ bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
     std::vector<Cycles> lengths;
     keys.reserve(kMaxPeriodSteps);
     lengths.reserve(kMaxPeriodSteps);
-    while (keys.size() < kMaxPeriodSteps) {
+    const Cycles start = avr_->cycle;
+    while (keys.size() < kMaxPeriodSteps && avr_->cycle - start < kMaxPeriodCycles) {
         keys.push_back(pass_key(avr_->pc, core_.stack_pointer()));
         const Cycles before = avr_->cycle;
         if (!step_one() || halt_a || halt_b || avr_->pc < vectors_end) return false;
