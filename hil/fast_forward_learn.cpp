@@ -241,12 +241,21 @@ bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
     keys.reserve(kMaxPeriodSteps);
     lengths.reserve(kMaxPeriodSteps);
     const Cycles start = avr_->cycle;
+    // One instruction per step, even one whose write registers a cycle
+    // timer (simavr then sets the batch length from the limit).
+    avr_->run_cycle_limit = 1;
+    const auto stepped = [this, vectors_end, &halt_a, &halt_b] {
+        const bool on = step_one() && !halt_a && !halt_b && avr_->pc >= vectors_end;
+        if (!on) avr_->run_cycle_limit = core_.free_run_limit();
+        return on;
+    };
     while (keys.size() < kMaxPeriodSteps && avr_->cycle - start < kMaxPeriodCycles) {
         keys.push_back(pass_key(avr_->pc, core_.stack_pointer()));
         const Cycles before = avr_->cycle;
-        if (!step_one() || halt_a || halt_b || avr_->pc < vectors_end) return false;
+        if (!stepped()) return false;
         lengths.push_back(avr_->cycle - before);
     }
+    avr_->run_cycle_limit = core_.free_run_limit();
     const std::size_t n = keys.size();
     std::size_t period = 0;
     for (std::size_t p = 2; p <= n / 2 && period == 0; ++p) {
@@ -261,9 +270,11 @@ bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
         if (std::count(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(period), keys[i]) == 1) once = i;
     }
     if (once == period) return false;
+    avr_->run_cycle_limit = 1;
     for (std::size_t i = 0; i < period && pass_key(avr_->pc, core_.stack_pointer()) != keys[once]; ++i) {
-        if (!step_one() || halt_a || halt_b || avr_->pc < vectors_end) return false;
+        if (!stepped()) return false;
     }
+    avr_->run_cycle_limit = core_.free_run_limit();
     if (pass_key(avr_->pc, core_.stack_pointer()) != keys[once] || loop_for(avr_->pc, core_.stack_pointer()) != kUnknown) {
         return false;
     }
