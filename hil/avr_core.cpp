@@ -285,6 +285,13 @@ RunStop AvrCore::run_until(Cycles target) {
     if (stop_requested_) return RunStop::kCondition;
     TargetFlag flag;
     avr_cycle_timer_register(avr, target - avr->cycle, &on_target, &flag);
+    // Lets fast-forward look at the batch end; true if the run must stop
+    // for an event it stopped stepping for.
+    const auto look = [this, &flag] {
+        if (!fast_forward_->after_batch(flag.reached, stop_requested_)) return false;
+        if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // an interrupt it stepped into switched the watch on
+        return event_pending();
+    };
     if (!instruction_hooks_.empty()) {
         avr->run_cycle_limit = 1;  // one instruction per avr_run
         avr->run_cycle_count = 1;
@@ -300,10 +307,7 @@ RunStop AvrCore::run_until(Cycles target) {
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
             if (!skips || step_watch_ != nullptr || avr->cycle < next_look) continue;
             next_look = avr->cycle + FastForward::kSamplePeriod;
-            if (fast_forward_->after_batch(flag.reached, stop_requested_)) {
-                if (step_watch_ != nullptr) step_watch_(step_watch_context_);
-                if (event_pending()) break;
-            }
+            if (look()) break;
         }
         stepping_ = false;
         avr->run_cycle_limit = free_run_limit();
@@ -312,10 +316,7 @@ RunStop AvrCore::run_until(Cycles target) {
             const int state = avr_run(avr);
             if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // the next instruction, on every path
             if (state == cpu_Crashed || state == cpu_Done || event_pending()) break;
-            if (fast_forward_ && step_watch_ == nullptr && fast_forward_->after_batch(flag.reached, stop_requested_)) {
-                if (step_watch_ != nullptr) step_watch_(step_watch_context_);  // an interrupt it stepped into switched the watch on
-                if (event_pending()) break;  // it stopped stepping for it
-            }
+            if (fast_forward_ && step_watch_ == nullptr && look()) break;
         }
     }
     avr_cycle_timer_cancel(avr, &on_target, &flag);

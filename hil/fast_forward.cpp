@@ -170,8 +170,9 @@ bool FastForward::step_one(bool silent) {
     avr_->run_cycle_count = 1;
     avr_run(avr_);
     if (!silent) core_.run_instruction_hooks();
-    // A watchdog reset (simavr swapped its run callback) is AvrCore's to take.
-    return avr_->state == cpu_Running && !core_.event_pending();
+    // A watchdog reset (simavr swapped its run callback) is AvrCore's to
+    // take; a stop a part asked for ends the stepping at this instruction.
+    return avr_->state == cpu_Running && !core_.event_pending() && !core_.stop_requested();
 }
 
 FastForward::Verify FastForward::verify_pass(const Loop& loop) {
@@ -288,11 +289,12 @@ bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held
     return bound(loop) > end;
 }
 
-// Steps from a PC of the pass (with its SP) on along the pass to the anchor;
-// stops where the run leaves it (a branch taken otherwise, an interrupt).
+// Steps from a PC of the pass (with its SP) on along the pass to the anchor
+// (from the anchor itself: a whole pass); stops where the run leaves it (a
+// branch taken otherwise, an interrupt) or a stop is requested.
 FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b) {
     const uint16_t sp = core_.stack_pointer();
-    std::size_t i = 1;
+    std::size_t i = 0;
     while (i < loop.pcs.size() && (loop.pcs[i] != avr_->pc || loop.sps[i] != sp)) ++i;
     if (i == loop.pcs.size()) return Walk::kNotOnPath;
     avr_->run_cycle_limit = 1;
@@ -377,11 +379,8 @@ bool FastForward::try_jump(Loop& loop) {
 // run's target among them: stepping must not pass it).
 bool FastForward::pass_runs_on_path(const Loop& loop) {
     if (avr_->cycle + loop.info.pass_cycles + kVerifyMargin >= bound(loop)) return true;
-    avr_->run_cycle_limit = 1;
-    std::size_t i = 0;
-    while (i < loop.pcs.size() && avr_->pc == loop.pcs[i] && step_one() && !core_.stop_requested()) ++i;
-    avr_->run_cycle_limit = core_.free_run_limit();
-    return i == loop.pcs.size() && avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp;
+    const bool stays_before_target = false;  // the bound above keeps the run's target out of the pass
+    return walk_to_anchor(loop, stays_before_target, stays_before_target) == Walk::kArrived;
 }
 
 // Where a jump should stop short of the loop's next predicted change of

@@ -305,18 +305,6 @@ std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timer
 
 bool FastForward::io_observed(uint16_t address) const { return read_observed(avr_, watchers_, address); }
 
-bool FastForward::writes_checked_io(const StepAccess& access) const {
-    if (!access.mem_write) return false;
-    for (unsigned i = 0; i < access.count; ++i) {
-        const uint16_t a = access.address[i];
-        if (a >= 0x20 && a < mcu_.sram_start && a != mcu_.spl && a != mcu_.sph &&
-            write_class(a) != WriteClass::kPlain) {
-            return true;
-        }
-    }
-    return false;
-}
-
 std::string FastForward::learning_refusal(Record r) const {
     switch (r) {
         case Record::kTooLong:

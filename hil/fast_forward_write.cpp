@@ -7,15 +7,13 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <iterator>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "hil/avr_core.hpp"
 #include "hil/fast_forward_loop.hpp"
 #include "hil/mcu.hpp"
-#include "hil/simavr_io.hpp"
 
 // Idempotent I/O writes (hil/fast_forward.hpp): which I/O registers a
 // skipped pass may write, and the check made before each such write on a
@@ -72,6 +70,31 @@ std::optional<uint8_t> stored_value(uint16_t w0, const uint8_t* data) {
 
 bool bit_of(uint8_t v, unsigned bit) { return ((v >> bit) & 1U) != 0; }
 
+/// True for an I/O register other than SP (whose bytes the pass analysis follows).
+bool io_not_sp(const McuDescription& mcu, uint16_t address) {
+    return address >= 0x20 && address < mcu.sram_start && address != mcu.spl && address != mcu.sph;
+}
+
+/// The port whose PORT or DDR register is at `address`, or nullptr.
+const avr_ioport_t* port_of(const std::vector<void*>& ports, uint16_t address) {
+    for (void* m : ports) {
+        const auto* p = static_cast<const avr_ioport_t*>(m);
+        if (address == p->r_port || address == p->r_ddr) return p;
+    }
+    return nullptr;
+}
+
+/// The timer with an OCR register (either byte) at `address`, or nullptr.
+const avr_timer_t* timer_of_compare(const std::vector<void*>& timers, uint16_t address) {
+    for (void* m : timers) {
+        const auto* t = static_cast<const avr_timer_t*>(m);
+        for (const avr_timer_comp_t& c : t->comp) {
+            if (c.r_ocr != 0 && (address == c.r_ocr || (c.r_ocrh != 0 && address == c.r_ocrh))) return t;
+        }
+    }
+    return nullptr;
+}
+
 }  // namespace
 
 using ff_detail::io_name;
@@ -79,18 +102,8 @@ using ff_detail::io_name;
 FastForward::WriteClass FastForward::write_class(uint16_t address) const {
     const auto& io = avr_->io[AVR_DATA_TO_IO(address)];
     if (io.w.c == nullptr && io.irq == nullptr) return WriteClass::kPlain;
-    for (void* m : ports_) {
-        const auto* p = static_cast<const avr_ioport_t*>(m);
-        if (address == p->r_port || address == p->r_ddr) return WriteClass::kPort;
-    }
-    for (void* m : timers_) {
-        const auto* t = static_cast<const avr_timer_t*>(m);
-        for (const avr_timer_comp_t& c : t->comp) {
-            if (c.r_ocr != 0 && (address == c.r_ocr || (c.r_ocrh != 0 && address == c.r_ocrh))) {
-                return WriteClass::kTimerCompare;
-            }
-        }
-    }
+    if (port_of(ports_, address) != nullptr) return WriteClass::kPort;
+    if (timer_of_compare(timers_, address) != nullptr) return WriteClass::kTimerCompare;
     for (const TimerDesc& t : mcu_.timers) {
         if (address == t.tccra || address == t.tccrb) return WriteClass::kTimerControl;
     }
@@ -149,20 +162,15 @@ bool FastForward::write_inert(uint32_t pc) const {
     if (!a.mem_write) return true;
     for (unsigned i = 0; i < a.count; ++i) {
         const uint16_t address = a.address[i];
-        if (address < 0x20 || address >= mcu_.sram_start || address == mcu_.spl || address == mcu_.sph) continue;
+        if (!io_not_sp(mcu_, address)) continue;
         const WriteClass kind = write_class(address);
         if (kind == WriteClass::kPlain) continue;
         const std::optional<uint8_t> value = stored_value(w0, avr_->data);
         if (!value || *value != avr_->data[address]) return false;
         switch (kind) {
-            case WriteClass::kPort: {
-                const auto it = std::find_if(ports_.begin(), ports_.end(), [address](void* m) {
-                    const auto* p = static_cast<const avr_ioport_t*>(m);
-                    return address == p->r_port || address == p->r_ddr;
-                });
-                if (!port_write_inert(*it)) return false;
+            case WriteClass::kPort:
+                if (!port_write_inert(port_of(ports_, address))) return false;
                 break;
-            }
             case WriteClass::kTimerCompare:
                 if (!compare_write_inert(address)) return false;
                 break;
@@ -181,25 +189,26 @@ bool FastForward::write_inert(uint32_t pc) const {
 // lacks, where PhaseCorrectTimer runs it and cancels what simavr re-arms
 // within the same write (hil/phase_correct_timer.hpp).
 bool FastForward::compare_write_inert(uint16_t address) const {
-    for (void* m : timers_) {
-        const auto* t = static_cast<const avr_timer_t*>(m);
-        const bool here = std::any_of(std::begin(t->comp), std::end(t->comp), [address](const avr_timer_comp_t& c) {
-            return c.r_ocr != 0 && (address == c.r_ocr || (c.r_ocrh != 0 && address == c.r_ocrh));
-        });
-        if (!here) continue;
-        if (t->wgm_op_mode_kind == avr_timer_wgm_fast_pwm) {
-            return t->io.irq[TIMER_IRQ_OUT_PWM0].hook == nullptr && t->io.irq[TIMER_IRQ_OUT_PWM1].hook == nullptr;
-        }
-        const bool simavrs_kind = t->wgm_op_mode_kind == avr_timer_wgm_normal ||
-                                  t->wgm_op_mode_kind == avr_timer_wgm_ctc || t->wgm_op_mode_kind == avr_timer_wgm_pwm ||
-                                  t->wgm_op_mode_kind == avr_timer_wgm_fc_pwm;
-        const bool stopped = t->cs_div_value == 0;
-        if (simavrs_kind && !stopped) return false;
-        if ((t->ext_clock_flags & (AVR_TIMER_EXTCLK_FLAG_TN | AVR_TIMER_EXTCLK_FLAG_AS2)) != 0) return false;
-        for (const avr_cycle_timer_slot_t* c = avr_->cycle_timers.timer; c != nullptr; c = c->next) {
-            if (c->param == m) return false;  // simavr runs it
-        }
-        return true;
+    const avr_timer_t* t = timer_of_compare(timers_, address);
+    if (t == nullptr) return false;
+    if (t->wgm_op_mode_kind == avr_timer_wgm_fast_pwm) {
+        return t->io.irq[TIMER_IRQ_OUT_PWM0].hook == nullptr && t->io.irq[TIMER_IRQ_OUT_PWM1].hook == nullptr;
+    }
+    const bool simavrs_kind = t->wgm_op_mode_kind == avr_timer_wgm_normal || t->wgm_op_mode_kind == avr_timer_wgm_ctc ||
+                              t->wgm_op_mode_kind == avr_timer_wgm_pwm || t->wgm_op_mode_kind == avr_timer_wgm_fc_pwm;
+    const bool stopped = t->cs_div_value == 0;
+    if (simavrs_kind && !stopped) return false;
+    if ((t->ext_clock_flags & (AVR_TIMER_EXTCLK_FLAG_TN | AVR_TIMER_EXTCLK_FLAG_AS2)) != 0) return false;
+    for (const avr_cycle_timer_slot_t* c = avr_->cycle_timers.timer; c != nullptr; c = c->next) {
+        if (c->param == t) return false;  // simavr runs it
+    }
+    return true;
+}
+
+bool FastForward::writes_checked_io(const StepAccess& access) const {
+    if (!access.mem_write) return false;
+    for (unsigned i = 0; i < access.count; ++i) {
+        if (io_not_sp(mcu_, access.address[i]) && write_class(access.address[i]) != WriteClass::kPlain) return true;
     }
     return false;
 }
