@@ -237,8 +237,16 @@ void erase_owned(std::vector<Entry>& list, const void* owner) {
 
 }  // namespace
 
-void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads) {
-    set_owned(instruction_hooks_, owner, std::move(hook));
+void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads,
+                                   std::function<uint64_t()> state_changes) {
+    InstructionHook entry{owner, std::move(hook), std::move(state_changes)};
+    const auto it = std::find_if(instruction_hooks_.begin(), instruction_hooks_.end(),
+                                 [owner](const InstructionHook& h) { return h.owner == owner; });
+    if (it != instruction_hooks_.end()) {
+        *it = std::move(entry);  // replaced in its place: the order stays
+    } else {
+        instruction_hooks_.push_back(std::move(entry));
+    }
     opaque_hooks_.erase(std::remove(opaque_hooks_.begin(), opaque_hooks_.end(), owner), opaque_hooks_.end());
     if (reads == HookReads::kAnything) opaque_hooks_.push_back(owner);
 }

@@ -111,7 +111,16 @@ public:
     /// avr_run, which is exact but slower (profiling, debugging). `owner`
     /// identifies it for remove_instruction_hook(); one hook per owner (adding
     /// again replaces it). Keep hooks short; they must not throw.
-    void add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads = HookReads::kAnything);
+    ///
+    /// `state_changes` (kPcSpCycle hooks, optional): a count of the changes
+    /// of the hook's own state, for a hook that decides from the PC, the SP
+    /// and that state alone, and reads the cycle only where the state
+    /// changes (the loop profiler). Fast-forward then shows it one pass of
+    /// skipped passes that repeat one path (same PCs, same SPs), and the
+    /// others only if that one changed its state: identical passes from an
+    /// unchanged state change nothing either.
+    void add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads = HookReads::kAnything,
+                              std::function<uint64_t()> state_changes = {});
     void remove_instruction_hook(const void* owner);
     bool has_instruction_hooks() const { return !instruction_hooks_.empty(); }
     /// True if every installed instruction hook is HookReads::kPcSpCycle.
@@ -121,6 +130,13 @@ public:
     void run_instruction_hooks() const {
         for (const auto& h : instruction_hooks_) h.hook();
     }
+    /// An installed instruction hook (in the order called).
+    struct InstructionHook {
+        const void* owner;
+        std::function<void()> hook;
+        std::function<uint64_t()> state_changes;  ///< empty: show it every instruction
+    };
+    const std::vector<InstructionHook>& instruction_hooks() const { return instruction_hooks_; }
 
     /// A function called before every instruction (PC at it, registers as it
     /// will see them) while set: right after each avr_run, before any stop,
@@ -253,7 +269,7 @@ private:
         const void* owner;
         std::function<void()> hook;
     };
-    std::vector<OwnedCallback> instruction_hooks_;
+    std::vector<InstructionHook> instruction_hooks_;
     std::vector<const void*> opaque_hooks_;  ///< owners of HookReads::kAnything hooks
     StepWatch step_watch_ = nullptr;
     void* step_watch_context_ = nullptr;

@@ -33,6 +33,9 @@ constexpr Cycles kPredictionSlackPasses = 4;
 /// The window around a predicted change that runs without jumps [passes].
 constexpr Cycles kWindowBeforePasses = 3;
 constexpr Cycles kWindowAfterPasses = 2;
+/// Periods a period must have been measured over to be predicted at once in
+/// a new phase (a new call of delay()).
+constexpr Cycles kSteadyPeriods = 4;
 /// A period shorter than this many slacks is not predicted.
 constexpr Cycles kMinPeriodSlacks = 8;
 /// Checked passes in a row that keep the path but change a loop-carried byte: the loop is refused.
@@ -45,6 +48,8 @@ constexpr unsigned kMaxBlindChanges = 16;
 /// and must still end before the bound's timer, which could raise an
 /// interrupt the restore cannot take back.
 constexpr Cycles kVerifyMargin = 5;
+/// Learned passes walked along in a row from one batch end (enter_learned_pass).
+constexpr int kMaxHops = 3;
 /// Jumps tried in a row at one anchor (bisection toward a change of path,
 /// retries up to an event a part's step scheduled).
 constexpr int kMaxJumpAttempts = 12;
@@ -113,36 +118,40 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
 bool FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
     if (avr_->cycle < no_jump_before_) return false;
     // Inside a learned pass, not at its anchor (with the SP the pass has
-    // there): on to the anchor, and jump there.
-    const auto on = on_pass_.find(pass_key(avr_->pc, core_.stack_pointer()));
-    if (on == on_pass_.end()) return false;
-    Loop& loop = loops_[static_cast<std::size_t>(on->second)];
-    switch (walk_to_anchor(loop, halt_a, halt_b)) {
-        case Walk::kArrived: (void)try_jump(loop); return true;
-        case Walk::kLeft: {
-            // Off this pass, perhaps onto another loop's anchor through the same code.
-            const int32_t at = loop_for(avr_->pc, core_.stack_pointer());
-            if (at >= 0 && loops_[static_cast<std::size_t>(at)].refusal == kUnknown && avr_->state == cpu_Running &&
-                !halt_a && !halt_b) {
-                (void)try_jump(loops_[static_cast<std::size_t>(at)]);
-            }
+    // there): on to the anchor, and jump there. Off it, the run may be on
+    // another loop's pass or anchor through the same code (a line sensor
+    // changed the path): on to that one, a few times at most.
+    bool ran = false;
+    for (int hop = 0; hop < kMaxHops; ++hop) {
+        const auto on = on_pass_.find(pass_key(avr_->pc, core_.stack_pointer()));
+        if (on == on_pass_.end()) break;
+        Loop& loop = loops_[static_cast<std::size_t>(on->second)];
+        const Walk walk = walk_to_anchor(loop, halt_a, halt_b);
+        if (walk == Walk::kNotOnPath) break;
+        ran = true;
+        if (walk == Walk::kArrived) {
+            (void)try_jump(loop);
             return true;
         }
-        case Walk::kNotOnPath: break;
+        // A watchdog reset (simavr swapped its run callback) or a stop is the core's to take.
+        if (avr_->state != cpu_Running || halt_a || halt_b || core_.event_pending() || core_.stop_requested()) {
+            return true;
+        }
     }
-    return false;
+    if (!ran) return false;
+    const int32_t at = loop_for(avr_->pc, core_.stack_pointer());
+    if (at >= 0 && loops_[static_cast<std::size_t>(at)].refusal == kUnknown) (void)try_jump(loops_[static_cast<std::size_t>(at)]);
+    return true;
 }
 
-FastForward::Defer FastForward::deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const {
-    const void* param = slot.param;
+FastForward::Defer FastForward::deferrable(CycleTimerFn fn, const void* param, const Loop& loop) const {
     for (const ReplayableTimer& r : replayable_) {
-        if (r.fn != slot.timer || r.param != param) continue;
+        if (r.fn != fn || r.param != param) continue;
         if (!r.may_replay(loop.span)) return Defer::kNo;
-        if (r.runs == ReplayableTimer::Runs::kAfterJump) return Defer::kReplay;
-        // Instruction hooks are shown the skipped passes after the jump (and
-        // what they report, a VCD's loop iterations, must come in time order
-        // with what the step reports): the step bounds the jump.
-        return core_.has_instruction_hooks() ? Defer::kNo : Defer::kAtOwnCycle;
+        // Instruction hooks are shown the skipped passes after the steps
+        // (what they report, a VCD's loop iterations, is closed only up to
+        // unsettled_from() meanwhile).
+        return r.runs == ReplayableTimer::Runs::kAfterJump ? Defer::kReplay : Defer::kAtOwnCycle;
     }
     for (std::size_t n = 0; n < timers_.size(); ++n) {
         if (timers_[n] != param) continue;
@@ -161,35 +170,9 @@ FastForward::Defer FastForward::deferrable(const avr_cycle_timer_slot_t& slot, c
 
 Cycles FastForward::bound(const Loop& loop) const {
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr; t = t->next) {
-        if (deferrable(*t, loop) == Defer::kNo) return t->when;
+        if (deferrable(t->timer, t->param, loop) == Defer::kNo) return t->when;
     }
     return std::numeric_limits<Cycles>::max();
-}
-
-bool FastForward::step_one(bool silent) {
-    avr_->run_cycle_count = 1;
-    avr_run(avr_);
-    if (!silent) core_.run_instruction_hooks();
-    // A watchdog reset (simavr swapped its run callback) is AvrCore's to
-    // take; a stop a part asked for ends the stepping at this instruction.
-    return avr_->state == cpu_Running && !core_.event_pending() && !core_.stop_requested();
-}
-
-FastForward::Verify FastForward::verify_pass(const Loop& loop) {
-    for (std::size_t i = 0; i < loop.pcs.size(); ++i) {
-        const uint32_t pc = avr_->pc;
-        if (pc != loop.pcs[i]) return Verify::kLeft;
-        if (loop.through_pointer[i]) {
-            const StepAccess a = step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu());
-            const StepAccess& b = loop.accesses[i];
-            if (a.count != b.count || !std::equal(a.address.begin(), a.address.begin() + a.count, b.address.begin())) {
-                return Verify::kLeft;
-            }
-        }
-        if (loop.checked_write[i] && !write_inert(pc)) return Verify::kNotInert;  // before it is made
-        if (!step_one(/*silent=*/true)) return Verify::kLeft;
-    }
-    return avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp ? Verify::kHeld : Verify::kLeft;
 }
 
 bool FastForward::carried_unchanged(const Loop& loop, const Snapshot& before) const {
@@ -210,7 +193,7 @@ struct FastForward::Held {
 std::vector<FastForward::Held> FastForward::hold_timers(const Loop& loop, Cycles end) {
     std::vector<Held> held;
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr && t->when <= end; t = t->next) {
-        held.push_back({t->timer, t->param, t->when, deferrable(*t, loop) == Defer::kAtOwnCycle});
+        held.push_back({t->timer, t->param, t->when, deferrable(t->timer, t->param, loop) == Defer::kAtOwnCycle});
     }
     for (const Held& h : held) avr_cycle_timer_cancel(avr_, h.fn, h.param);
     return held;
@@ -222,8 +205,11 @@ void FastForward::release(const Loop& loop, const std::vector<Held>& held, Cycle
     // order, each with the clock where executing the passes would have run
     // it: the end of the instruction that reached its cycle (a flag raised
     // there is stamped with it: IsrMonitor::pending_since).
+    // A timer its owner registered again meanwhile (a part's step queued an
+    // edge earlier than the held one) keeps that registration, which in
+    // simavr replaces the earlier one.
     for (const Held& h : held) {
-        if (h.when != 0) avr_cycle_timer_register(avr_, h.when - avr_->cycle, h.fn, h.param);
+        if (h.when != 0 && !registered(h.fn, h.param)) avr_cycle_timer_register(avr_, h.when - avr_->cycle, h.fn, h.param);
     }
     const Cycles end = avr_->cycle;
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr && t->when <= end;
@@ -270,10 +256,11 @@ Cycles FastForward::fires_at(const Loop& loop, Cycles now, Cycles when) {
 // step that requested a stop (0: none), which the caller defers to there.
 bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held, Cycles now, Cycles end,
                                        Cycles& stop_at) {
+    unsettled_from_ = now;  // the held timers run after these steps
     for (Held& h : held) {
         if (!h.own_cycle) continue;
         while (h.when != 0 && h.when <= end) {
-            if (bound(loop) <= end) return false;  // an earlier step scheduled an event inside the jump
+            if (!still_deferred(loop, held, end)) return false;  // an earlier step scheduled an event inside the jump
             const Cycles at = h.when;
             avr_->cycle = fires_at(loop, now, at);
             const Cycles next = h.fn(avr_, at, h.param);
@@ -286,25 +273,24 @@ bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held
             }
         }
     }
-    return bound(loop) > end;
+    return still_deferred(loop, held, end);
 }
 
-// Steps from a PC of the pass (with its SP) on along the pass to the anchor
-// (from the anchor itself: a whole pass); stops where the run leaves it (a
-// branch taken otherwise, an interrupt) or a stop is requested.
-FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b) {
-    const uint16_t sp = core_.stack_pointer();
-    std::size_t i = 0;
-    while (i < loop.pcs.size() && (loop.pcs[i] != avr_->pc || loop.sps[i] != sp)) ++i;
-    if (i == loop.pcs.size()) return Walk::kNotOnPath;
-    avr_->run_cycle_limit = 1;
-    for (; i < loop.pcs.size(); ++i) {
-        if (avr_->pc != loop.pcs[i] || !step_one() || halt_a || halt_b) break;
+// True if nothing a part's step scheduled bounds the jump: no timer due
+// inside it that may not be deferred, registered or held (a step may queue
+// an edge to a held timer's owner without registering it again).
+bool FastForward::still_deferred(const Loop& loop, const std::vector<Held>& held, Cycles end) const {
+    if (bound(loop) <= end) return false;
+    return std::none_of(held.begin(), held.end(), [&](const Held& h) {
+        return !h.own_cycle && h.when != 0 && deferrable(h.fn, h.param, loop) == Defer::kNo;
+    });
+}
+
+bool FastForward::registered(CycleTimerFn fn, const void* param) const {
+    for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr; t = t->next) {
+        if (t->timer == fn && t->param == param) return true;
     }
-    avr_->run_cycle_limit = core_.free_run_limit();
-    const bool arrived = i == loop.pcs.size() && avr_->state == cpu_Running && !halt_a && !halt_b &&
-                         avr_->pc == loop.info.anchor && core_.stack_pointer() == loop.sp;
-    return arrived ? Walk::kArrived : Walk::kLeft;
+    return false;
 }
 
 // Jumps as far as the loop's path holds. A verification pass that leaves
@@ -419,9 +405,11 @@ Cycles FastForward::aim_before_change(Loop& loop) {
 // slack per period: the changes between may have run unseen, in a window),
 // the period is held, and measured again over all the periods since the
 // first change of the phase. Otherwise the phase broke (a new call of
-// delay()): the period is kept, and the interval becomes a candidate, held
-// if the next one matches it. Only where jumps end is predicted, never the
-// path: a wrong prediction costs time, never exactness.
+// delay()): the period is kept, and predicted from this change on if it
+// was measured over kSteadyPeriods or more; the interval becomes a
+// candidate, held as the period if the next one matches it (the first
+// period is found so). Only where jumps end is
+// predicted, never the path: a wrong prediction costs time, never exactness.
 void FastForward::note_change(Loop& loop, Cycles at) {
     ChangeTrack& t = *loop.changes;
     const Cycles slack = kPredictionSlackPasses * loop.info.pass_cycles;
@@ -445,8 +433,12 @@ void FastForward::note_change(Loop& loop, Cycles at) {
         t.periods = 1;
         t.held = true;
     } else {
+        // A new phase (delay() called again) of a period measured over
+        // several: predicted from this change on (a wrong guess costs a
+        // bisection; a period held by chance is not).
         t.candidate = interval;
         t.ref_at = at;
+        t.held = t.periods >= kSteadyPeriods;
     }
     t.located = at;
     t.at = at;
@@ -486,36 +478,9 @@ FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cyc
         replay_to_hooks(loop, now, k + 1);
     }
     release(loop, held, now);
+    unsettled_from_ = kAllSettled;
     if (stop_at != 0) core_.stop_after(stop_at - now);
     return outcome;
-}
-
-void FastForward::set_stack_pointer(uint16_t sp) {
-    avr_->data[mcu_.spl] = static_cast<uint8_t>(sp & 0xFFU);
-    if (mcu_.sph != 0) avr_->data[mcu_.sph] = static_cast<uint8_t>(sp >> 8);
-}
-
-// The instruction hooks see each instruction of the `passes` passes from
-// `now` (the skipped ones and the verification pass) as stepping shows it:
-// after it, with the next PC, the SP and the cycle of its end. The hooks
-// read nothing else (AvrCore::HookReads::kPcSpCycle).
-void FastForward::replay_to_hooks(const Loop& loop, Cycles now, Cycles passes) {
-    if (!core_.has_instruction_hooks()) return;
-    const Cycles end = avr_->cycle;
-    const std::size_t n = loop.pcs.size();
-    for (Cycles j = 0; j < passes; ++j) {
-        const Cycles start = now + j * loop.info.pass_cycles;
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool last = i + 1 == n;
-            avr_->pc = last ? loop.info.anchor : loop.pcs[i + 1];
-            set_stack_pointer(last ? loop.sp : loop.sps[i + 1]);
-            avr_->cycle = start + loop.step_ends[i];
-            core_.run_instruction_hooks();
-        }
-    }
-    avr_->pc = loop.info.anchor;
-    set_stack_pointer(loop.sp);
-    avr_->cycle = end;
 }
 
 FastForwardStats FastForward::stats() const {

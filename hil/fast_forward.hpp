@@ -57,7 +57,6 @@
 #include "hil/loop_pass.hpp"
 
 struct avr_t;
-struct avr_cycle_timer_slot_t;
 
 namespace ddmr::hil {
 
@@ -70,6 +69,9 @@ struct IoWatchers {
     int count = 0;          ///< parts watching it
     int reads_matter = 0;   ///< those for which a read's notification changes something
 };
+
+/// A simavr cycle timer's callback (avr_cycle_timer_t).
+using CycleTimerFn = uint64_t (*)(avr_t*, uint64_t, void*);
 
 /// The passes a jump skips, as a cycle timer that asks to be replayed sees them.
 struct LoopSpan {
@@ -103,7 +105,7 @@ struct LoopSpan {
 ///   deferred to its own cycle the same way.
 struct ReplayableTimer {
     enum class Runs { kAfterJump, kAtOwnCycle };
-    uint64_t (*fn)(avr_t*, uint64_t, void*) = nullptr;
+    CycleTimerFn fn = nullptr;
     void* param = nullptr;
     std::function<bool(const LoopSpan&)> may_replay;
     Runs runs = Runs::kAfterJump;
@@ -159,6 +161,14 @@ public:
 
     [[nodiscard]] FastForwardStats stats() const;
 
+    /// While a jump runs the parts' steps at their own cycles (kAtOwnCycle),
+    /// the held timers due inside it (kAfterJump: a part's pin edges) run
+    /// after them: events may still arrive from this cycle on. A part that
+    /// writes a time-ordered record (the VCD) closes it no later than this.
+    /// kAllSettled outside such steps.
+    [[nodiscard]] Cycles unsettled_from() const { return unsettled_from_; }
+    static constexpr Cycles kAllSettled = ~Cycles{0};
+
 private:
     struct Loop;
     struct ChangeTrack;
@@ -192,6 +202,7 @@ private:
     bool enter_learned_pass(const bool& halt_a, const bool& halt_b);
     enum class Walk { kNotOnPath, kLeft, kArrived };
     Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b);
+    Walk run_to_anchor(const Loop& loop, std::size_t i, const bool& halt_a, const bool& halt_b);
     enum class Jump { kTooShort, kMismatch, kTakenBack, kStopDeferred, kSkipped };
     Jump jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by);
     enum class Verify { kHeld, kLeft, kNotInert };
@@ -200,6 +211,8 @@ private:
     /// (a verification pass, which may be taken back).
     bool step_one(bool silent = false);
     void replay_to_hooks(const Loop& loop, Cycles now, Cycles passes);
+    template <typename Show>
+    void show_pass(const Loop& loop, Cycles start, const Show& show);
     void set_stack_pointer(uint16_t sp);
     bool carried_unchanged(const Loop& loop, const Snapshot& before) const;
     Snapshot snapshot();
@@ -211,7 +224,9 @@ private:
     Cycles bound(const Loop& loop) const;
     /// How a pending cycle timer stands to a jump over the loop's passes.
     enum class Defer { kNo, kReplay, kAtOwnCycle };
-    Defer deferrable(const avr_cycle_timer_slot_t& slot, const Loop& loop) const;
+    Defer deferrable(CycleTimerFn fn, const void* param, const Loop& loop) const;
+    bool still_deferred(const Loop& loop, const std::vector<Held>& held, Cycles end) const;
+    bool registered(CycleTimerFn fn, const void* param) const;
     void refuse(uint32_t anchor, uint16_t sp, std::string reason);
     /// The loop (or refusal) anchored at `pc` for stack pointer `sp`, or kUnknown.
     [[nodiscard]] int32_t loop_for(uint32_t pc, uint16_t sp) const;
@@ -245,6 +260,7 @@ private:
     Cycles no_learning_before_ = 0;
     Cycles no_jump_before_ = 0;
     uint64_t cycles_skipped_ = 0;
+    Cycles unsettled_from_ = kAllSettled;
     std::vector<uint8_t> saved_data_;
     std::unordered_map<uint64_t, int> tries_;  ///< learning attempts that failed, by anchor << 16 | SP
 };

@@ -33,9 +33,11 @@ LoopProfiler::LoopProfiler(AvrCore& core, const ElfSymbol& mark) : core_(core) {
     begin_ = mark.address;
     end_ = mark.address + mark.size;
     iterations_.reserve(4096);
-    core_.add_instruction_hook(this, [this] { on_instruction(); }, AvrCore::HookReads::kPcSpCycle);
+    core_.add_instruction_hook(this, [this] { on_instruction(); }, AvrCore::HookReads::kPcSpCycle,
+                               [this] { return state_changes_; });
     // An iteration cut by a reset is not an iteration.
     core_.add_reset_listener(this, [this] {
+        ++state_changes_;
         inside_ = false;
         have_start_ = false;
     });
@@ -50,6 +52,7 @@ void LoopProfiler::on_instruction() {
     const uint32_t pc = core_.pc();  // the next instruction to run
     if (!inside_) {
         if (pc == begin_) {  // CALL/RCALL just transferred control to the mark
+            ++state_changes_;
             inside_ = true;
             sp_at_entry_ = core_.stack_pointer();
             entry_cycle_ = core_.cycle();
@@ -57,6 +60,7 @@ void LoopProfiler::on_instruction() {
         return;
     }
     if ((pc >= begin_ && pc < end_) || core_.stack_pointer() <= sp_at_entry_) return;
+    ++state_changes_;
     inside_ = false;  // RET: back in the caller
     const Cycles now = core_.cycle();
     if (!armed_) return;

@@ -86,6 +86,10 @@ private:
     Cycles start_cycle_ = 0;
     std::vector<LoopIteration> iterations_;
     std::function<void(bool)> listener_;
+    /// Entries into and returns from the mark: on_instruction decides from
+    /// the PC, the SP and inside_ alone, and reads the cycle only at these
+    /// (AvrCore::add_instruction_hook's state_changes).
+    uint64_t state_changes_ = 0;
 };
 
 }  // namespace ddmr::hil

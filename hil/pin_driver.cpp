@@ -44,9 +44,13 @@ void set_external(avr_ioport_t* port, int bit_index, bool held, bool level) {
 
 PinDriver::PinDriver(AvrCore& core) : core_(core), pins_(static_cast<std::size_t>(core.board().pin_count())) {
     core_.add_reset_listener(this, [this] { restore_after_reset(); });
+    core_.allow_replay(ReplayableTimer{&PinDriver::on_timer, this,
+                                       [this](const LoopSpan& span) { return edges_replayable(span); },
+                                       ReplayableTimer::Runs::kAfterJump});
 }
 
 PinDriver::~PinDriver() {
+    core_.forget_replay(this);
     core_.remove_reset_listener(this);
     avr_cycle_timer_cancel(core_.raw(), &PinDriver::on_timer, this);
     for (const Driven& d : pins_) {
@@ -69,8 +73,16 @@ PinDriver::Driven& PinDriver::driven(int pin) {
         throw std::runtime_error("PinDriver: simavr has no port " + std::string(1, info->port) + " for pin " +
                                  std::to_string(pin));
     }
+    d.reach = PinEdgeReach(core_.raw(), core_.mcu(), *info);
     d.used = true;
     return d;
+}
+
+bool PinDriver::edges_replayable(const LoopSpan& span) const {
+    const avr_t* avr = core_.raw();
+    return std::all_of(queue_.begin(), queue_.end(), [&](const Edge& e) {
+        return pins_[static_cast<std::size_t>(e.pin)].reach.replayable(avr, span, e.level);
+    });
 }
 
 void PinDriver::put(Driven& d, bool level) {

@@ -28,6 +28,12 @@
 // instead: the part wins over the 20-50 kOhm pull-up, as on the chip
 // (section 13.2.1; DC characteristics 28.2, RPU).
 //
+// Fast-forward: the edge timer is replayable after a jump (ReplayableTimer,
+// kAfterJump) while no queued edge can be seen by the skipped passes
+// (PinEdgeReach: the pin not read, no interrupt enabled on it), so a wired
+// encoder the sketch never reads does not end every jump. The queue is
+// checked whole: a part's step may queue edges while the timer is held.
+//
 // An AVR reset cancels the cycle timer and clears PINx: the driver puts its
 // levels back on the pins and re-arms for the queued edges.
 // Not thread-safe (like AvrCore). Construct after the AvrCore, destroy before.
@@ -39,6 +45,7 @@
 
 #include "hil/avr_core.hpp"
 #include "hil/board_description.hpp"
+#include "hil/pin_edge_reach.hpp"
 
 struct avr_irq_t;
 struct avr_ioport_t;
@@ -90,12 +97,15 @@ private:
         PinInfo info{};
         avr_irq_t* irq = nullptr;
         avr_ioport_t* port = nullptr;  ///< simavr's port: its external levels
+        PinEdgeReach reach;            ///< what an edge on it reaches (fast-forward)
     };
     static uint64_t on_timer(struct avr_t* avr, uint64_t when, void* param);
     Driven& driven(int pin);
     void put(Driven& d, bool level);
     void arm();
     void restore_after_reset();
+    /// True if every queued edge may be raised after a fast-forward jump over `span`.
+    [[nodiscard]] bool edges_replayable(const LoopSpan& span) const;
 
     AvrCore& core_;
     std::vector<Driven> pins_;  ///< per board pin number

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hil/fast_forward.hpp"
 #include "hil/isr_monitor.hpp"
 
 namespace ddmr::hil {
@@ -267,7 +268,11 @@ void VcdRecorder::poll_profiler() {
 void VcdRecorder::on_boundary(Cycles boundary) {
     poll_profiler();
     // The latest event source stamps one step back (LoopTracer); keep two.
-    if (boundary > lag_cycles_) writer_.flush(boundary - lag_cycles_);
+    // Inside a fast-forward jump, pin edges held back may still come
+    // (FastForward::unsettled_from).
+    if (boundary <= lag_cycles_) return;
+    const FastForward* ff = core_.fast_forward();
+    writer_.flush(std::min(boundary - lag_cycles_, ff != nullptr ? ff->unsettled_from() : FastForward::kAllSettled));
 }
 
 void VcdRecorder::finish() {

@@ -42,6 +42,13 @@
  *     counted down each time us() has moved on 1000 us: the path changes
  *     every 16,000 cycles), 100 ms called from run() and 100 ms from three
  *     calls deeper (another stack depth).
+ *   FF_UNREAD_EDGES: both motors at full drive, the encoders' edges on
+ *     PD2 (INT0, PCINT18) and PD3 (INT1, PCINT19) while a loop waits
+ *     without reading PIND, four ways (100, 50, 50 and 20 ms): INT0/INT1 in their reset state
+ *     (low-level sense, off: simavr sets INTFn on a low only with the I flag
+ *     set), sensing rising edges but off (INTFn set), PCMSK2 set with PCIE2
+ *     off (PCIF2 set), and PCIE2 on with an ISR counting the edges. Prints
+ *     EIFR, PCIFR and the count after each.
  * Each prints one line per event, with us() at it, then "done". */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -262,8 +269,27 @@ static void run(void) {
     for_10_ms(toggle_pass);
     event("toggle", PINB);
 }
+#elif defined(FF_UNREAD_EDGES)
+static volatile uint16_t changes;
+ISR(PCINT2_vect) { ++changes; }
+static void run(void) {
+    const uint8_t drive = _BV(PB2) | _BV(PB3) | _BV(PB4) | _BV(PB5); /* D10..D13 */
+    PORTB |= drive;
+    DDRB |= drive;
+    wait_us(100000U);
+    event("level sense", EIFR);
+    EICRA = _BV(ISC01) | _BV(ISC00) | _BV(ISC11) | _BV(ISC10);
+    wait_us(50000U);
+    event("rising edges", EIFR);
+    PCMSK2 = _BV(PCINT18) | _BV(PCINT19);
+    wait_us(50000U);
+    event("pcmsk", PCIFR);
+    PCICR = _BV(PCIE2);
+    wait_us(20000U);
+    event("pcint", changes);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES"
 #endif
 
 int main(void) {

@@ -1,5 +1,6 @@
 #include "common/truth_csv.hpp"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
 #include <iterator>
@@ -16,11 +17,11 @@ std::string truth_csv_header(bool with_drive) {
 
 void append_truth_row(std::string& out, const hil::TruthSample& s, bool with_drive) {
     auto it = std::back_inserter(out);
-    fmt::format_to(it, "{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}",
+    fmt::format_to(it, FMT_COMPILE("{:.6f},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}"),
                    s.t_s, s.x_m, s.y_m, s.theta_rad, s.v_m_s, s.omega_rad_s, s.ia1_A, s.ia2_A,
                    s.wheel1_rad_s, s.wheel2_rad_s, s.vbatt_V, s.edges1, s.edges2);
     if (with_drive) {
-        fmt::format_to(it, ",{:.6f},{:.6f},{},{}", s.duty1, s.duty2, s.dir1 ? 1 : 0, s.dir2 ? 1 : 0);
+        fmt::format_to(it, FMT_COMPILE(",{:.6f},{:.6f},{},{}"), s.duty1, s.duty2, s.dir1 ? 1 : 0, s.dir2 ? 1 : 0);
     }
     out.push_back('\n');
 }
