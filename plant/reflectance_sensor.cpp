@@ -33,6 +33,12 @@ double spot_reflectance(const World& world, const Eigen::Vector2d& p, double spo
     if (spot_diameter_m <= 0.0) return reflectance_at(world, p);
     static const SpotDirections directions;
     const double r = spot_diameter_m / 2.0;
+    if (clear_of_lines(world, p, r)) {
+        // All 13 points read the floor: the same sum, without the geometry.
+        double floor = world.floor_reflectance;
+        for (int k = 0; k < 12; ++k) floor += world.floor_reflectance;
+        return floor / 13.0;
+    }
     double sum = reflectance_at(world, p);
     for (const Eigen::Vector2d& d : directions.inner) sum += reflectance_at(world, p + 0.5 * r * d);
     for (const Eigen::Vector2d& d : directions.rim) sum += reflectance_at(world, p + r * d);

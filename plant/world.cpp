@@ -129,6 +129,21 @@ double reflectance_at(const World& world, const Eigen::Vector2d& p) {
     return world.floor_reflectance;
 }
 
+bool clear_of_lines(const World& world, const Eigen::Vector2d& p, double radius_m) {
+    for (const FloorLine& line : world.lines) {
+        // Every point within radius_m of p is farther than half the width
+        // from each piece's centreline (an arc: from its whole circle first).
+        const double reach = line.width_m / 2.0 + radius_m + kRoundingMargin_m;
+        for (const LinePiece& piece : line.pieces) {
+            if (piece.kind == LinePiece::Kind::arc && std::fabs((p - piece.center_m).norm() - piece.radius_m) > reach) {
+                continue;
+            }
+            if ((p - closest_point(piece, p)).norm() <= reach) return false;
+        }
+    }
+    return true;
+}
+
 std::optional<LineOffset> line_offset(const World& world, const Eigen::Vector2d& p, double heading_rad) {
     std::optional<LineOffset> best;
     const Eigen::Vector2d left(-std::sin(heading_rad), std::cos(heading_rad));

@@ -87,6 +87,10 @@ Eigen::Vector2d closest_point(const LinePiece& piece, const Eigen::Vector2d& p);
 
 /// What the floor sends back at `p`: the top line covering it, else the floor.
 double reflectance_at(const World& world, const Eigen::Vector2d& p);
+/// True if no line covers any point within `radius_m` of `p` (by more than
+/// rounding): reflectance_at reads the floor everywhere there. One distance
+/// per piece, where a spot's 13 reads would take 13.
+bool clear_of_lines(const World& world, const Eigen::Vector2d& p, double radius_m);
 
 /// The nearest line's centreline as seen from a point of the robot.
 struct LineOffset {

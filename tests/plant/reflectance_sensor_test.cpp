@@ -1,8 +1,11 @@
 // Reflectance sensors' outputs, each number worked out by hand from
 // plant/reflectance_sensor.hpp and ../shared/SENSORS.md section 2.
 #include "plant/reflectance_sensor.hpp"
+#include "plant/units.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace ddmr::plant {
 namespace {
@@ -29,6 +32,30 @@ TEST(SpotReflectance, AveragesThirteenPointsAcrossAnEdge) {
     const double r = spot_reflectance(tape_along_x(), {0.0, 0.0094}, 0.003);
     EXPECT_NEAR(r, (9 * 0.05 + 4 * 0.8) / 13.0, 1e-12);  // 0.2808
     EXPECT_DOUBLE_EQ(spot_reflectance(tape_along_x(), {0.0, 0.0094}, 0.0), kBlackTapeReflectance);  // a point
+}
+
+TEST(SpotReflectance, IsTheThirteenPointsAverageEverywhereNearASegmentAndAnArc) {
+    // spot_reflectance skips the 13 reads where clear_of_lines says no
+    // line is within the spot: on a 0.25 mm grid around a segment's end and
+    // a quarter arc (centre (0.5, 0.2), radius 0.2), it must equal the
+    // average of the 13 reads, bit for bit (it fails with the spot's
+    // radius left out of the clearance: the rim reads the tape there).
+    World w = tape_along_x();
+    w.lines[0].pieces = {LinePiece::segment({0.0, 0.0}, {0.5, 0.0}), LinePiece::arc({0.5, 0.2}, 0.2, -kPi / 2.0, kPi / 2.0)};
+    const double d = 0.003;
+    const double r = d / 2.0;
+    int mixed = 0;
+    for (double x = -0.02; x <= 0.75; x += 0.00025) {
+        for (double y = -0.02; y <= 0.03; y += 0.00025) {
+            const Eigen::Vector2d p(x, y);
+            double sum = reflectance_at(w, p);
+            for (int k = 0; k < 4; ++k) sum += reflectance_at(w, p + 0.5 * r * Eigen::Vector2d(std::cos(k * kPi / 2.0), std::sin(k * kPi / 2.0)));
+            for (int k = 0; k < 8; ++k) sum += reflectance_at(w, p + r * Eigen::Vector2d(std::cos(k * kPi / 4.0), std::sin(k * kPi / 4.0)));
+            ASSERT_EQ(spot_reflectance(w, p, d), sum / 13.0) << "at (" << x << ", " << y << ")";
+            mixed += clear_of_lines(w, p, r) ? 0 : 1;
+        }
+    }
+    EXPECT_GT(mixed, 10000);  // the grid crosses the tape, not only the floor
 }
 
 TEST(AnalogReflectance, IsLinearBetweenTheWhiteAndBlackLevelsAndClampedToTheSupply) {
