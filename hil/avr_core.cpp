@@ -217,16 +217,17 @@ void AvrCore::reset() {
 
 namespace {
 
-/// Replaces `owner`'s entry in `list`, or appends one.
+/// Replaces the entry of `entry.owner` in `list` in its place (the order
+/// stays), or appends it.
 template <typename Entry>
-void set_owned(std::vector<Entry>& list, const void* owner, std::function<void()> fn) {
+void set_owned(std::vector<Entry>& list, Entry entry) {
     for (auto& e : list) {
-        if (e.owner == owner) {
-            e.hook = std::move(fn);
+        if (e.owner == entry.owner) {
+            e = std::move(entry);
             return;
         }
     }
-    list.push_back({owner, std::move(fn)});
+    list.push_back(std::move(entry));
 }
 
 template <typename Entry>
@@ -239,14 +240,7 @@ void erase_owned(std::vector<Entry>& list, const void* owner) {
 
 void AvrCore::add_instruction_hook(const void* owner, std::function<void()> hook, HookReads reads,
                                    std::function<uint64_t()> state_changes) {
-    InstructionHook entry{owner, std::move(hook), std::move(state_changes)};
-    const auto it = std::find_if(instruction_hooks_.begin(), instruction_hooks_.end(),
-                                 [owner](const InstructionHook& h) { return h.owner == owner; });
-    if (it != instruction_hooks_.end()) {
-        *it = std::move(entry);  // replaced in its place: the order stays
-    } else {
-        instruction_hooks_.push_back(std::move(entry));
-    }
+    set_owned(instruction_hooks_, InstructionHook{owner, std::move(hook), std::move(state_changes)});
     opaque_hooks_.erase(std::remove(opaque_hooks_.begin(), opaque_hooks_.end(), owner), opaque_hooks_.end());
     if (reads == HookReads::kAnything) opaque_hooks_.push_back(owner);
 }
@@ -255,7 +249,7 @@ void AvrCore::remove_instruction_hook(const void* owner) {
     opaque_hooks_.erase(std::remove(opaque_hooks_.begin(), opaque_hooks_.end(), owner), opaque_hooks_.end());
 }
 void AvrCore::add_reset_listener(const void* owner, std::function<void()> fn) {
-    set_owned(reset_listeners_, owner, std::move(fn));
+    set_owned(reset_listeners_, OwnedCallback{owner, std::move(fn)});
 }
 void AvrCore::remove_reset_listener(const void* owner) { erase_owned(reset_listeners_, owner); }
 
