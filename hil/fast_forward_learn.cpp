@@ -12,6 +12,7 @@
 #include "hil/avr_core.hpp"
 #include "hil/avr_decode.hpp"
 #include "hil/fast_forward_loop.hpp"
+#include "hil/io_register_name.hpp"
 #include "hil/mcu.hpp"
 
 // Learning: a candidate anchor's two passes are stepped and recorded, and
@@ -57,30 +58,6 @@ bool read_observed(const avr_t* avr, const std::unordered_map<uint16_t, IoWatche
 }  // namespace
 
 using ff_detail::flags_equal;
-using ff_detail::io_name;
-
-std::string ff_detail::io_name(const McuDescription& mcu, uint16_t a) {
-    for (const PortRegisters& p : mcu.ports) {
-        if (a == p.pin) return fmt::format("PIN{}", p.port);
-        if (a == p.ddr) return fmt::format("DDR{}", p.port);
-        if (a == p.port_register) return fmt::format("PORT{}", p.port);
-    }
-    for (const UsartDesc& u : mcu.usarts) {
-        if (a == u.udr) return fmt::format("UDR{}", u.index);
-        if (a == u.ucsra) return fmt::format("UCSR{}A", u.index);
-        if (a == u.ucsrb) return fmt::format("UCSR{}B", u.index);
-    }
-    for (const TimerDesc& t : mcu.timers) {
-        if (a == t.tcnt_low || (t.tcnt_high != 0 && a == t.tcnt_high)) return fmt::format("TCNT{}", t.index);
-        if (a == t.tccra) return fmt::format("TCCR{}A", t.index);
-        if (a == t.tccrb) return fmt::format("TCCR{}B", t.index);
-    }
-    if (a == mcu.eecr) return "EECR";
-    if (a == mcu.twcr) return "TWCR";
-    if (a == mcu.adc.adcsra) return "ADCSRA";
-    return fmt::format("I/O 0x{:02x}", a);
-}
-
 
 int32_t FastForward::loop_for(uint32_t pc, uint16_t sp) const {
     int32_t i = state_[pc >> 1];
@@ -284,7 +261,7 @@ bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
 std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
     for (uint16_t a : analysis.io_reads) {
         if (a == mcu_.spl || a == mcu_.sph) continue;
-        if (read_observed(avr_, watchers_, a)) return fmt::format("reads {}, which a part watches", io_name(mcu_, a));
+        if (read_observed(avr_, watchers_, a)) return fmt::format("reads {}, which a part watches", io_register_name(mcu_, a));
         bool timer = false;
         for (std::size_t n = 0; n < timers_.size(); ++n) {
             const auto* t = static_cast<const avr_timer_t*>(timers_[n]);
@@ -297,7 +274,7 @@ std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timer
         const bool pin = std::any_of(mcu_.ports.begin(), mcu_.ports.end(),
                                      [a](const PortRegisters& p) { return p.pin == a; });
         if (!timer && !pin && io.r.c != nullptr) {
-            return fmt::format("reads {}, a read with side effects in simavr", io_name(mcu_, a));
+            return fmt::format("reads {}, a read with side effects in simavr", io_register_name(mcu_, a));
         }
     }
     return {};
@@ -312,7 +289,7 @@ std::string FastForward::learning_refusal(Record r) const {
         case Record::kWrites:
             return fmt::format("writes {} a new value, or where simavr's handling of the write is seen "
                                "(a pin it raises again that reads otherwise, a PCINT mask bit, a timer it re-arms)",
-                               io_name(mcu_, not_inert_));
+                               io_register_name(mcu_, not_inert_));
         default: return "its passes do not repeat one instruction path";
     }
 }

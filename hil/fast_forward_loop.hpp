@@ -11,9 +11,6 @@
 
 namespace ddmr::hil::ff_detail {
 
-/// A register's name for a refusal, from the MCU description where it has one.
-std::string io_name(const McuDescription& mcu, uint16_t address);
-
 /// True if simavr's SREG arrays agree on the flags in `mask`.
 inline bool flags_equal(uint8_t mask, const uint8_t* a, const uint8_t* b) {
     for (unsigned f = 0; f < 8; ++f) {

@@ -13,6 +13,7 @@
 
 #include "hil/avr_core.hpp"
 #include "hil/fast_forward_loop.hpp"
+#include "hil/io_register_name.hpp"
 #include "hil/mcu.hpp"
 
 // Idempotent I/O writes (hil/fast_forward.hpp): which I/O registers a
@@ -97,7 +98,6 @@ const avr_timer_t* timer_of_compare(const std::vector<void*>& timers, uint16_t a
 
 }  // namespace
 
-using ff_detail::io_name;
 
 FastForward::WriteClass FastForward::write_class(uint16_t address) const {
     const auto& io = avr_->io[AVR_DATA_TO_IO(address)];
@@ -220,8 +220,8 @@ std::string FastForward::accept_writes(const PassAnalysis& analysis) const {
         if (a == mcu_.spl || a == mcu_.sph) continue;
         const WriteClass kind = write_class(a);
         if (kind == WriteClass::kPlain) continue;
-        if (kind == WriteClass::kOther) return fmt::format("writes {}", io_name(mcu_, a));
-        if (io_observed(a)) return fmt::format("writes {}, which a part watches", io_name(mcu_, a));
+        if (kind == WriteClass::kOther) return fmt::format("writes {}", io_register_name(mcu_, a));
+        if (io_observed(a)) return fmt::format("writes {}, which a part watches", io_register_name(mcu_, a));
     }
     return {};
 }

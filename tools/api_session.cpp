@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "common/plant_yaml.hpp"
+#include "common/private_dir.hpp"
 #include "common/sketch_build.hpp"
 #include "common/truth_csv.hpp"
 #include "firmware_run_plan.hpp"
@@ -37,16 +38,6 @@ SketchBuildOptions sketch_options(const ApiOptions& o) {
 uint64_t next_session_id() {
     static std::atomic<uint64_t> next{1};
     return next++;
-}
-
-/// A private folder for the streamed artifacts (mkdtemp: never shared).
-fs::path make_staging() {
-    std::string tmpl = (fs::temp_directory_path() / "ddmr-hil-session-XXXXXX").string();
-    if (::mkdtemp(tmpl.data()) == nullptr) {
-        throw std::runtime_error(fmt::format("cannot create a staging folder {}: {}", tmpl,
-                                             std::error_code(errno, std::generic_category()).message()));
-    }
-    return tmpl;
 }
 
 /// The plant: its file or the defaults, the overrides merged in, the seed.
@@ -107,7 +98,7 @@ FirmwareRunOptions run_options(const ApiOptions& o, const nlohmann::json& firmwa
 
 }  // namespace
 
-ApiSession::Live::Live(const ApiOptions& options, const nlohmann::json& firmware_source) : staging(make_staging()) {
+ApiSession::Live::Live(const ApiOptions& options, const nlohmann::json& firmware_source) : staging(make_private_dir("ddmr-hil-session")) {
     try {
         run = std::make_unique<FirmwareRun>(run_options(options, firmware_source, staging));
     } catch (...) {

@@ -115,6 +115,7 @@ hil::SessionStop run_session(hil::Session& session, const RunPlan& plan, Profile
         const hil::SessionStop boot = session.run_to_first_return_from(*plan.ready);
         if (boot != hil::SessionStop::kCondition) return boot;
         send_start();
+        if (between) between();
     } else if (profilers.loop && !plan.has_start) {
         profilers.loop->arm();  // every iteration from reset on
     }
@@ -477,7 +478,7 @@ hil::LoopProfiler* FirmwareRun::loop_profiler() { return s_->profilers.loop ? &*
 hil::SessionStop FirmwareRun::run_to_end(const std::function<void()>& between) {
     State& st = *s_;
     if (st.finished) throw std::logic_error("the run has finished: its artifacts are written");
-    if (!st.plan.completes) {
+    if (!st.plan.completes && st.options.notices) {
         std::fprintf(stderr,
                      "ddmr-hil: %s: %s, so it runs %g simulated s (--seconds) and ends with exit_reason time_limit\n",
                      st.options.firmware.c_str(),

@@ -127,6 +127,9 @@ struct FirmwareRunOptions {
     /// atomically; its folder must exist and be writable.
     std::optional<std::filesystem::path> vcd;
     bool progress = false;                ///< one progress line per simulated second on stderr
+    /// Notices on stderr (how long a run without a contract lasts); off for
+    /// a run beside another that says it (the fast-forward verification's).
+    bool notices = true;
     bool echo_simavr_log = false;         ///< print simavr's warnings on stderr
     /// Skip busy-wait passes exactly (hil/fast_forward.hpp); --no-fast-forward: off.
     bool fast_forward = true;
@@ -225,8 +228,9 @@ public:
     /// Throws std::invalid_argument when the contract takes no case or not this one.
     void set_case(int test_case);
     /// The boot, the start text and the run to its end, as `run` does them;
-    /// after the boot, `between` (if any) is called every 10 ms of AVR time
-    /// and may throw to stop the run (Ctrl-C in the Python API).
+    /// after the boot (once at its end, then every 10 ms of AVR time),
+    /// `between` (if any) is called and may throw to stop the run (Ctrl-C
+    /// in the Python API).
     hil::SessionStop run_to_end(const std::function<void()>& between = {});
     /// Ends the run (`stop`: how the last run returned), writes the
     /// artifacts, returns the result. Once.

@@ -13,6 +13,7 @@
 #include "common/sketch_build.hpp"
 #include "exit_codes.hpp"
 #include "firmware_run.hpp"
+#include "fast_forward_verify.hpp"
 #include "firmware_run_plan.hpp"
 #include "hil/board.hpp"
 #include "hil/board_description.hpp"
@@ -49,6 +50,7 @@ struct RunCli {
     std::string platformio;          ///< --platformio DIR: the project's ELF
     std::string pio_env;             ///< --env NAME
     bool unity = false;              ///< --unity
+    bool verify_fast_forward = false;  ///< --verify-fast-forward
     CLI::Option* firmware_option = nullptr;
     CLI::Option* case_option = nullptr;
     CLI::Option* ready_option = nullptr;
@@ -219,6 +221,19 @@ int print_run_result(const FirmwareRunOptions& o, const FirmwareRunResult& r) {
     return kExitOk;
 }
 
+/// `run --verify-fast-forward`: the run, its result, and the verification's line.
+int run_verified(const FirmwareRunOptions& o) {
+    const VerifiedRun v = run_verifying_fast_forward(o);
+    const int code = print_run_result(o, v.result);
+    const std::string line = verification_line(v.verification, v.result.clock_hz);
+    if (v.verification.difference) {
+        std::fprintf(stderr, "ddmr-hil run: %s\n", line.c_str());
+        return kExitCheckFailed;
+    }
+    std::fprintf(o.unity ? stderr : stdout, "%s\n", line.c_str());
+    return code;
+}
+
 /// The run's options from the command line's (`profile_always`: the profile command).
 FirmwareRunOptions run_options(const RunCli& cli, bool profile_always) {
     FirmwareRunOptions o = cli.options;
@@ -361,9 +376,15 @@ void add_console_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli) {
                                                "stderr is a terminal)");
     sub->add_flag("-q,--quiet", cli->quiet, "No progress output");
     sub->add_flag("-v,--verbose", cli->options.echo_simavr_log, "Echo simavr's warnings to stderr");
-    sub->add_flag("!--no-fast-forward", cli->options.fast_forward,
+    CLI::Option* no_ff = sub->add_flag("!--no-fast-forward", cli->options.fast_forward,
                   "Execute every instruction of busy-wait loops (delay(), flag polls) instead of skipping "
                   "whole passes of them exactly: for comparison (docs/fast-forward.md)");
+    sub->add_flag("--verify-fast-forward", cli->verify_fast_forward,
+                  "Run the same firmware without fast-forward beside this run, on a second thread, and compare "
+                  "their states (cycle, PC, registers, I/O, SRAM, EEPROM, plant) every 10 ms of AVR time; where "
+                  "they first differ, repeat both to name the first stop that differs, with the PC and the bytes "
+                  "(fast_forward_verify.json; exit 1). Not with --no-fast-forward, --gdb or --unity")
+        ->excludes(no_ff);
 }
 
 /// The instruments: profiler, variable traces, avr-gdb, VCD, ISR monitor, stack guard, race detector.
@@ -424,6 +445,7 @@ Subcommand add_run_options(CLI::App* sub, const std::shared_ptr<RunCli>& cli, bo
 
     return Subcommand{sub, [cli, profile_always]() {
         const FirmwareRunOptions o = run_options(*cli, profile_always);
+        if (cli->verify_fast_forward) return run_verified(o);
         const FirmwareRunResult r = run_firmware(o);
         return print_run_result(o, r);
     }};
