@@ -86,7 +86,10 @@ AdcInput::AdcInput(AvrCore& core, const AdcSupply& supply) : core_(core), supply
         throw std::runtime_error(std::string("AdcInput: simavr's ") + core_.mcu().label + " core has no ADC IRQs");
     }
     avr_irq_register_notify(trigger_, &AdcInput::on_trigger, this);
-    adcsra_ = core_.watch_io(core_.mcu().adc.adcsra, &AdcInput::on_adcsra, this, AvrCore::IoReads::kMatter);
+    // A notification of ADCSRA's unchanged value (a read: analogRead()'s
+    // wait for ADSC) changes nothing here: ADEN changes only by a write,
+    // which this sees, or a reset, which the listener below takes.
+    adcsra_ = core_.watch_io(core_.mcu().adc.adcsra, &AdcInput::on_adcsra, this, AvrCore::IoReads::kIgnored);
     aden_ = bit_set(core_.data(core_.mcu().adc.adcsra), kAden);
     if (core_.mcu().adc.channels > kSimavrChannels) claim_high_channels();
     samples_.reserve(kRecordedSamples);
@@ -102,7 +105,7 @@ AdcInput::~AdcInput() {
     core_.remove_reset_listener(this);
     avr_cycle_timer_cancel(core_.raw(), &AdcInput::on_sample, this);
     avr_irq_unregister_notify(trigger_, &AdcInput::on_trigger, this);
-    core_.unwatch_io(core_.mcu().adc.adcsra, &AdcInput::on_adcsra, this, AvrCore::IoReads::kMatter);
+    core_.unwatch_io(core_.mcu().adc.adcsra, &AdcInput::on_adcsra, this, AvrCore::IoReads::kIgnored);
 }
 
 void AdcInput::claim_high_channels() {

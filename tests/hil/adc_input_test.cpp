@@ -56,6 +56,38 @@ TEST(AdcInput, AnalogReadReturnsTheDatasheetCode) {
     EXPECT_EQ(r.f.u16("code_1v1"), 1023u);
 }
 
+// analogRead()'s wait for ADSC to clear is skipped by fast-forward: the
+// conversion's end is a cycle timer of simavr's ADC, which bounds every jump,
+// and a read of ADCSRA changes nothing in AdcInput (IoReads::kIgnored). The
+// inputs are sawtooths of 5 V per 1021 cycles (about one code per cycle), so
+// a sample taken one cycle off would read another code: the codes and the
+// rounds' cycles are those of executing every pass.
+TEST(AdcInput, ConversionWaitsAreSkippedExactly) {
+    AdcRig on;
+    AdcRig off;
+    for (AdcRig* r : {&on, &off}) {
+        for (int n = 0; n < 6; ++n) {
+            r->adc.set_voltage(kA0 + n, [n](hil::Cycles c) {
+                return 5.0 * static_cast<double>((c + 131U * static_cast<unsigned>(n)) % 1021U) / 1021.0;
+            });
+        }
+    }
+    on.f.core.set_fast_forward(true);
+    off.f.core.set_fast_forward(false);
+    for (hil::Cycles t = 50'000; t <= 1'000'000; t += 50'000) {
+        on.f.core.run_until(t);
+        off.f.core.run_until(t);
+        ASSERT_EQ(on.f.core.cycle(), off.f.core.cycle());
+        ASSERT_EQ(on.f.u8("rounds"), off.f.u8("rounds")) << "at cycle " << t;
+        for (std::size_t n = 0; n < 6; ++n) ASSERT_EQ(on.f.u16("codes", n), off.f.u16("codes", n)) << "A" << n;
+        ASSERT_EQ(on.f.u16("code_1v1"), off.f.u16("code_1v1"));
+    }
+    EXPECT_GT(on.f.u8("rounds"), 60U);  // under 14,000 cycles each
+    ASSERT_NE(on.f.core.fast_forward(), nullptr);
+    // Seven waits of 1664 cycles (the first 3200) make most of a round.
+    EXPECT_GT(on.f.core.fast_forward()->stats().cycles_skipped, 600'000U);
+}
+
 TEST(AdcInput, TheInternalReferenceIsTheBandgap) {
     AdcRig r;
     r.adc.set_voltage(kA0, 0.55);
