@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 
 #include "hil/eeprom_port.hpp"
+#include "hil/machine_state.hpp"
 
 namespace ddmr::hil {
 namespace {
@@ -35,16 +36,6 @@ constexpr const char* kThreadId = "1";
 constexpr uint16_t kSregAddress = 0x5F;
 constexpr uint16_t kSplAddress = 0x5D;
 constexpr uint16_t kSphAddress = 0x5E;
-
-/// SREG as the firmware would read it: simavr 1.6 keeps it split into
-/// sreg[0..7] (one flag per byte) and updates data[SREG] only on reads.
-uint8_t sreg_of(const avr_t* avr) {
-    unsigned value = 0;
-    for (unsigned bit = 0; bit < 8; ++bit) {
-        if (avr->sreg[bit] != 0) value |= 1U << bit;
-    }
-    return static_cast<uint8_t>(value);
-}
 
 std::string error_reply(int code) { return fmt::format("E{:02x}", code); }
 constexpr int kErrBadArgs = 1;

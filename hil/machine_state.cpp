@@ -87,6 +87,14 @@ void compare_plant(const TruthSample& a, const TruthSample& b, Collector& c) {
 
 }  // namespace
 
+uint8_t sreg_of(const avr_t* avr) {
+    unsigned value = 0;
+    for (unsigned bit = 0; bit < 8; ++bit) {
+        if (avr->sreg[bit] != 0) value |= 1U << bit;
+    }
+    return static_cast<uint8_t>(value);
+}
+
 MachineState capture_machine_state(RobotRig& rig) {
     AvrCore& core = rig.core();
     avr_t* avr = core.raw();
@@ -95,9 +103,7 @@ MachineState capture_machine_state(RobotRig& rig) {
     s.cycle = avr->cycle;
     s.pc = avr->pc;
     s.data.assign(avr->data, avr->data + mcu.ram_end + 1);
-    uint8_t sreg = 0;
-    for (unsigned f = 0; f < 8; ++f) sreg |= static_cast<uint8_t>((avr->sreg[f] != 0 ? 1U : 0U) << f);
-    s.data[mcu.sreg] = sreg;
+    s.data[mcu.sreg] = sreg_of(avr);
     read_counters(avr, mcu, s.data);
     s.eeprom = rig.eeprom().read_all();
     s.plant = truth_sample_of(rig.robot(), s.cycle);

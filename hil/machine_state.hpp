@@ -21,6 +21,8 @@
 #include "hil/cycle_time.hpp"
 #include "hil/plant_coupler.hpp"
 
+struct avr_t;
+
 namespace ddmr::hil {
 
 class RobotRig;
@@ -34,6 +36,10 @@ struct MachineState {
     std::vector<uint8_t> eeprom;
     TruthSample plant;  ///< the plant's state and input (truth.csv's columns)
 };
+
+/// SREG as the firmware would read it: simavr 1.6 keeps it split into
+/// sreg[0..7] (one flag per byte) and updates data[SREG] only on reads.
+uint8_t sreg_of(const avr_t* avr);
 
 /// The rig's state now (between two instructions).
 MachineState capture_machine_state(RobotRig& rig);
