@@ -55,6 +55,7 @@
 
 #include "hil/cycle_time.hpp"
 #include "hil/loop_pass.hpp"
+#include "hil/pin_bit_use.hpp"
 
 struct avr_t;
 
@@ -84,6 +85,16 @@ struct LoopSpan {
     std::vector<uint16_t> io_reads;  ///< the I/O data addresses a pass reads (sorted, unique)
     [[nodiscard]] bool reads(uint16_t address) const {
         return std::binary_search(io_reads.begin(), io_reads.end(), address);
+    }
+    /// Per PIN register a pass reads: the bits whose level can change what
+    /// it does (hil/pin_bit_use.hpp). A register read and not listed: all.
+    std::vector<PinBits> pin_bits;
+    /// True if the level of bit `bit` of the I/O register can change what a pass does.
+    [[nodiscard]] bool reads_bit(uint16_t address, unsigned bit) const {
+        if (!reads(address)) return false;
+        const auto it = std::find_if(pin_bits.begin(), pin_bits.end(),
+                                     [address](const PinBits& p) { return p.address == address; });
+        return it == pin_bits.end() || ((it->used >> bit) & 1U) != 0;
     }
     /// True if a pass writes no SRAM byte below its own stack (no global,
     /// no heap): what a part reads of the firmware's globals is the same at
@@ -180,8 +191,10 @@ private:
     /// that is not inert, write_inert).
     enum class Record { kPass, kDiffers, kTooLong, kCut, kWrites };
     [[nodiscard]] std::string learning_refusal(Record r) const;
+    /// `bits`, if given, follows which PIN bits the pass uses.
     Record record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
-                       const std::vector<RecordedStep>* follow, const bool& halt_a, const bool& halt_b);
+                       const std::vector<RecordedStep>* follow, const bool& halt_a, const bool& halt_b,
+                       PinBitUse* bits = nullptr);
     std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
     // I/O writes (fast_forward_write.cpp).
     enum class WriteClass { kPlain, kPort, kTimerControl, kTimerCompare, kOther };

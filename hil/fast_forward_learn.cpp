@@ -98,7 +98,7 @@ void FastForward::link(Loop&& loop) {
 // pass), stops as soon as this one leaves its path.
 FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
                                              const std::vector<RecordedStep>* follow, const bool& halt_a,
-                                             const bool& halt_b) {
+                                             const bool& halt_b, PinBitUse* bits) {
     const Cycles start = avr_->cycle;
     const uint16_t sp = core_.stack_pointer();
     const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
@@ -112,7 +112,9 @@ FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<Record
         if (follow != nullptr && (steps.size() >= follow->size() || (*follow)[steps.size()].pc != pc)) {
             return Record::kDiffers;
         }
-        steps.push_back({pc, core_.stack_pointer(), step_access(core_.flash_word(pc), core_.flash_word(pc + 2), cpu())});
+        const uint16_t w0 = core_.flash_word(pc);
+        steps.push_back({pc, core_.stack_pointer(), step_access(w0, core_.flash_word(pc + 2), cpu())});
+        if (bits != nullptr) bits->step(w0, steps.back().access, cpu());
         if (follow != nullptr && writes_checked_io(steps.back().access) && !write_inert(pc)) {
             not_inert_ = steps.back().access.address[0];
             return Record::kWrites;
@@ -134,7 +136,10 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
     Cycles c2 = 0;
     Record r = record_pass(anchor, first, c1, nullptr, halt_a, halt_b);
     const Snapshot between = snapshot();  // the state the second pass starts from
-    if (r == Record::kPass) r = record_pass(anchor, second, c2, &first, halt_a, halt_b);
+    std::vector<uint16_t> pins;
+    for (const PortRegisters& p : mcu_.ports) pins.push_back(p.pin);
+    PinBitUse bits(std::move(pins), 0x20, mcu_.sram_start, mcu_.spl);
+    if (r == Record::kPass) r = record_pass(anchor, second, c2, &first, halt_a, halt_b, &bits);
     avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
     no_learning_before_ = avr_->cycle + kLearningBackoff;
     if (r == Record::kCut) return true;  // an interrupt or a stop: try again later
@@ -180,6 +185,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
     loop.info.pc_low = loop.info.pc_high = anchor;
     loop.span.min_sp = loop.span.max_sp = loop.sp;
     loop.span.io_reads = analysis.io_reads;
+    loop.span.pin_bits = bits.finish();
     for (const RecordedStep& s : second) {
         if (s.access.mem_write) {
             for (unsigned i = 0; i < s.access.count; ++i) {

@@ -14,7 +14,7 @@ namespace ddmr::hil {
 using atmega328p::bit_set;  // a register bit test, the same on every megaAVR
 
 PinEdgeReach::PinEdgeReach(avr_t* avr, const McuDescription& mcu, const PinInfo& pin)
-    : pin_register_(pin.pin_register) {
+    : pin_register_(pin.pin_register), bit_(static_cast<unsigned>(pin.bit)) {
     if (pin.ext_int) {
         ext_int_ = *pin.ext_int;
         eimsk_ = mcu.eimsk;
@@ -39,7 +39,7 @@ PinEdgeReach::PinEdgeReach(avr_t* avr, const McuDescription& mcu, const PinInfo&
 
 bool PinEdgeReach::replayable(const avr_t* avr, const LoopSpan& span, bool level) const {
     const uint8_t* data = avr->data;
-    if (span.reads(pin_register_)) return false;
+    if (span.reads_bit(pin_register_, bit_)) return false;
     if (ext_int_ >= 0) {
         if (bit_set(data[eimsk_], ext_int_) || span.reads(eifr_)) return false;
         const unsigned sense = (data[eicr_] >> isc_shift_) & 3U;

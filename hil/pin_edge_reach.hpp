@@ -21,7 +21,9 @@
 //   in TIFRn, and the interrupt if ICIEn is set (16.6 "Input Capture Unit").
 // Raised later at its own cycle (the core's clock set there), the edge
 // leaves the same state, provided the passes read neither the pin nor a
-// flag or capture register it sets, and it requests no interrupt.
+// flag or capture register it sets, and it requests no interrupt. A pass
+// that reads the PIN register but uses other bits of it only (digitalRead()
+// of another pin of the port: hil/pin_bit_use.hpp) does not read the pin.
 //
 // Reads the registers when asked; holds simavr's timer modules (owned by
 // the avr_t, which outlives the parts).
@@ -53,6 +55,7 @@ private:
         const void* timer;  ///< simavr's avr_timer_t
     };
     uint16_t pin_register_ = 0;
+    unsigned bit_ = 0;  ///< the pin's bit in it
     int ext_int_ = -1;
     uint16_t eimsk_ = 0, eifr_ = 0, eicr_ = 0;
     unsigned isc_shift_ = 0;

@@ -49,6 +49,12 @@
  *     set), sensing rising edges but off (INTFn set), PCMSK2 set with PCIE2
  *     off (PCIF2 set), and PCIE2 on with an ISR counting the edges. Prints
  *     EIFR, PCIFR and the count after each.
+ *   FF_MASKED_PIN: both motors at full drive, the encoders' edges on PD2
+ *     and PD3 (interrupts off) while loops read PIND and use bit 7 only (a
+ *     pull-up, always high): 50 ms through Arduino's digitalRead() scheme
+ *     (the input register's address and the pin's mask from flash tables,
+ *     the register loaded whole and masked), 50 ms through SBIS; then the
+ *     same read_pin() of PD2 counts 20 of encoder 1's edges.
  * Each prints one line per event, with us() at it, then "done". */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -288,8 +294,41 @@ static void run(void) {
     wait_us(20000U);
     event("pcint", changes);
 }
+#elif defined(FF_MASKED_PIN)
+#include <avr/pgmspace.h>
+static const uint8_t pin_masks[16] PROGMEM = {1, 2, 4, 8, 16, 32, 64, 128, 1, 2, 4, 8, 16, 32, 64, 128};
+static const uint8_t pin_inputs[2] PROGMEM = {_SFR_MEM_ADDR(PIND), _SFR_MEM_ADDR(PINB)};
+/* digitalRead(): pins 0..7 on PORTD, 8..15 on PORTB. */
+__attribute__((noinline)) static uint8_t read_pin(uint8_t pin) {
+    const uint8_t mask = pgm_read_byte(&pin_masks[pin]);
+    volatile uint8_t* input = (volatile uint8_t*)(uint16_t)pgm_read_byte(&pin_inputs[pin >> 3]);
+    return (*input & mask) ? 1 : 0;
+}
+static void run(void) {
+    const uint8_t drive = _BV(PB2) | _BV(PB3) | _BV(PB4) | _BV(PB5); /* D10..D13 */
+    PORTB |= drive;
+    DDRB |= drive;
+    PORTD |= _BV(PD7); /* pull-up */
+    uint32_t start = us();
+    while (read_pin(7) && us() - start < 50000U) {
+    }
+    event("digitalRead", read_pin(7));
+    start = us();
+    while (bit_is_set(PIND, PD7) && us() - start < 50000U) {
+    }
+    event("sbis", PIND & _BV(PD7));
+    uint8_t last = read_pin(2);
+    for (uint8_t n = 0; n < 20;) {
+        const uint8_t now = read_pin(2);
+        if (now != last) {
+            ++n;
+            last = now;
+        }
+    }
+    event("edges", 20);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES, FF_MASKED_PIN"
 #endif
 
 int main(void) {
