@@ -93,11 +93,12 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
     if (here >= 0) {
         Loop& loop = loops_[static_cast<std::size_t>(here)];
         if (loop.refusal == kUnknown) return try_jump(loop);
-        if (enter_learned_pass(halt_a, halt_b)) return true;  // refused here, but on another loop's pass
+        // Refused here, but on another loop's pass?
+        if (const Entered e = enter_learned_pass(halt_a, halt_b); e != Entered::kNo) return e == Entered::kRan;
         ++refused_[static_cast<std::size_t>(loop.refusal)].visits;
         return false;
     }
-    if (enter_learned_pass(halt_a, halt_b)) return true;
+    if (const Entered e = enter_learned_pass(halt_a, halt_b); e != Entered::kNo) return e == Entered::kRan;
     if (ambiguous_.count(pass_key(pc, sp)) != 0) return false;  // on a learned pass, at which visit?
     if (st < kUnknown) {
         ++refused_[static_cast<std::size_t>(-2 - st)].visits;
@@ -115,8 +116,8 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
     return learn(pc, halt_a, halt_b);
 }
 
-bool FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
-    if (avr_->cycle < no_jump_before_) return false;
+FastForward::Entered FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
+    if (avr_->cycle < no_jump_before_) return Entered::kNo;
     // Inside a learned pass, not at its anchor (with the SP the pass has
     // there): on to the anchor, and jump there. Off it, the run may be on
     // another loop's pass or anchor through the same code (a line sensor
@@ -126,22 +127,35 @@ bool FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
         const auto on = on_pass_.find(pass_key(avr_->pc, core_.stack_pointer()));
         if (on == on_pass_.end()) break;
         Loop& loop = loops_[static_cast<std::size_t>(on->second)];
+        if (!ran && !jump_may_follow(loop)) return Entered::kWaiting;
         const Walk walk = walk_to_anchor(loop, halt_a, halt_b);
         if (walk == Walk::kNotOnPath) break;
         ran = true;
         if (walk == Walk::kArrived) {
             (void)try_jump(loop);
-            return true;
+            return Entered::kRan;
         }
         // A watchdog reset (simavr swapped its run callback) or a stop is the core's to take.
         if (avr_->state != cpu_Running || halt_a || halt_b || core_.event_pending() || core_.stop_requested()) {
-            return true;
+            return Entered::kRan;
         }
     }
-    if (!ran) return false;
+    if (!ran) return Entered::kNo;
     const int32_t at = loop_for(avr_->pc, core_.stack_pointer());
     if (at >= 0 && loops_[static_cast<std::size_t>(at)].refusal == kUnknown) (void)try_jump(loops_[static_cast<std::size_t>(at)]);
-    return true;
+    return Entered::kRan;
+}
+
+// The anchor is at most one pass away; a jump from there needs room for
+// kMinPassesPerJump passes, the verification pass and the margin before
+// the next event. Without it, stepping to the anchor instruction by
+// instruction (a long pass) gains nothing: the run goes on in batches. (A
+// short pass runs to its anchor in batches, and try_jump there keeps the
+// prediction of its changes of path up to date: walked always.)
+bool FastForward::jump_may_follow(const Loop& loop) const {
+    if (!walks_by_step(loop)) return true;
+    const Cycles pass = loop.info.pass_cycles;
+    return bound(loop) > avr_->cycle + (kMinPassesPerJump + 3) * pass + kVerifyMargin;
 }
 
 FastForward::Defer FastForward::deferrable(CycleTimerFn fn, const void* param, const Loop& loop) const {

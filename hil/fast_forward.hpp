@@ -212,7 +212,13 @@ private:
     static void note_change(Loop& loop, Cycles at);
     Cycles aim_before_change(Loop& loop);
     static constexpr Cycles kNoChangeSeen = ~Cycles{0};
-    bool enter_learned_pass(const bool& halt_a, const bool& halt_b);
+    /// kWaiting: on a learned pass whose anchor no jump could leave before
+    /// the next event (nothing run: stepping to it would gain nothing).
+    enum class Entered { kNo, kRan, kWaiting };
+    Entered enter_learned_pass(const bool& halt_a, const bool& halt_b);
+    [[nodiscard]] bool jump_may_follow(const Loop& loop) const;
+    /// True if walk_to_anchor steps the loop's pass instruction by instruction.
+    [[nodiscard]] bool walks_by_step(const Loop& loop) const;
     enum class Walk { kNotOnPath, kLeft, kArrived };
     Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b);
     Walk run_to_anchor(const Loop& loop, std::size_t i, const bool& halt_a, const bool& halt_b);

@@ -45,6 +45,10 @@ FastForward::Verify FastForward::verify_pass(const Loop& loop) {
 // Steps from a PC of the pass (with its SP) on along the pass to the anchor
 // (from the anchor itself: a whole pass); stops where the run leaves it (a
 // branch taken otherwise, an interrupt) or a stop is requested.
+bool FastForward::walks_by_step(const Loop& loop) const {
+    return core_.has_instruction_hooks() || loop.info.pass_cycles >= kSamplePeriod;
+}
+
 FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b) {
     const uint16_t sp = core_.stack_pointer();
     std::size_t i = 0;
@@ -56,9 +60,7 @@ FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt
     // changed the path), another learned pass may start, and a batch would
     // run on past that point (measured: 5 % faster on case 1, 5 % slower on
     // line_follower_digital with batches for all).
-    if (!core_.has_instruction_hooks() && loop.info.pass_cycles < kSamplePeriod) {
-        return run_to_anchor(loop, i, halt_a, halt_b);
-    }
+    if (!walks_by_step(loop)) return run_to_anchor(loop, i, halt_a, halt_b);
     avr_->run_cycle_limit = 1;
     for (; i < loop.pcs.size(); ++i) {
         if (avr_->pc != loop.pcs[i] || !step_one() || halt_a || halt_b) break;
