@@ -94,7 +94,7 @@ struct LoopSpan {
         if (!reads(address)) return false;
         const auto it = std::find_if(pin_bits.begin(), pin_bits.end(),
                                      [address](const PinBits& p) { return p.address == address; });
-        return it == pin_bits.end() || ((it->used >> bit) & 1U) != 0;
+        return it == pin_bits.end() || ((static_cast<unsigned>(it->used) >> bit) & 1U) != 0;
     }
     /// True if a pass writes no SRAM byte below its own stack (no global,
     /// no heap): what a part reads of the firmware's globals is the same at
