@@ -54,6 +54,11 @@ constexpr int kMaxHops = 3;
 /// retries up to an event a part's step scheduled).
 constexpr int kMaxJumpAttempts = 12;
 
+/// The room a jump over passes of `pass` cycles needs before its bound:
+/// kMinPassesPerJump passes skipped, the verification pass, the pass that
+/// rounding down to whole passes may lose (jump_once), and the margin.
+constexpr Cycles shortest_jump(Cycles pass) { return (kMinPassesPerJump + 2) * pass + kVerifyMargin; }
+
 }  // namespace
 
 using ff_detail::flags_equal;
@@ -67,8 +72,17 @@ FastForward::FastForward(AvrCore& core, const std::vector<ReplayableTimer>& repl
       watchers_(watchers),
       state_((mcu_.flash_bytes + 1) / 2, kUnknown),
       path_(state_.size(), kUnknown) {
-    for (avr_io_t* io : simavr_io_modules(avr_, "timer")) timers_.push_back(io);
+    for (avr_io_t* io : simavr_io_modules(avr_, "timer")) {
+        timers_.push_back(io);
+        timer_reach_.emplace_back(avr_, mcu_, core.board(), io);
+    }
     for (avr_io_t* io : simavr_io_modules(avr_, "port")) ports_.push_back(io);
+    for (const PortRegisters& p : mcu_.ports) followed_registers_.push_back(p.pin);
+    for (void* io : timers_) {
+        const avr_regbit_t& flags = static_cast<const avr_timer_t*>(io)->overflow.raised;
+        const auto known = std::find(followed_registers_.begin(), followed_registers_.end(), flags.reg);
+        if (flags.reg != 0 && known == followed_registers_.end()) followed_registers_.push_back(flags.reg);
+    }
     saved_data_.resize(static_cast<std::size_t>(avr_->ramend) + 1);
 }
 
@@ -155,10 +169,10 @@ FastForward::Entered FastForward::enter_learned_pass(const bool& halt_a, const b
 bool FastForward::jump_may_follow(const Loop& loop) const {
     if (!walks_by_step(loop)) return true;
     const Cycles pass = loop.info.pass_cycles;
-    return bound(loop) > avr_->cycle + (kMinPassesPerJump + 3) * pass + kVerifyMargin;
+    return bound(loop) > avr_->cycle + pass + shortest_jump(pass);
 }
 
-FastForward::Defer FastForward::deferrable(CycleTimerFn fn, const void* param, const Loop& loop) const {
+FastForward::Defer FastForward::deferrable(CycleTimerFn fn, const void* param, Cycles when, const Loop& loop) const {
     for (const ReplayableTimer& r : replayable_) {
         if (r.fn != fn || r.param != param) continue;
         if (!r.may_replay(loop.span)) return Defer::kNo;
@@ -169,22 +183,14 @@ FastForward::Defer FastForward::deferrable(CycleTimerFn fn, const void* param, c
     }
     for (std::size_t n = 0; n < timers_.size(); ++n) {
         if (timers_[n] != param) continue;
-        if ((loop.timers_read >> n) & 1U) return Defer::kNo;
-        auto* t = static_cast<avr_timer_t*>(timers_[n]);
-        if (avr_regbit_get(avr_, t->overflow.enable) != 0 || avr_regbit_get(avr_, t->icr.enable) != 0) return Defer::kNo;
-        for (const avr_timer_comp_t& c : t->comp) {
-            if (c.r_ocr == 0) continue;
-            if (avr_regbit_get(avr_, c.interrupt.enable) != 0) return Defer::kNo;
-            if (c.comp_cycles != 0 && avr_regbit_get(avr_, c.com) != 0) return Defer::kNo;  // drives its OC pin
-        }
-        return Defer::kReplay;
+        return timer_reach_[n].replayable(when, loop.span) ? Defer::kReplay : Defer::kNo;
     }
     return Defer::kNo;
 }
 
 Cycles FastForward::bound(const Loop& loop) const {
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr; t = t->next) {
-        if (deferrable(t->timer, t->param, loop) == Defer::kNo) return t->when;
+        if (deferrable(t->timer, t->param, t->when, loop) == Defer::kNo) return t->when;
     }
     return std::numeric_limits<Cycles>::max();
 }
@@ -207,7 +213,7 @@ struct FastForward::Held {
 std::vector<FastForward::Held> FastForward::hold_timers(const Loop& loop, Cycles end) {
     std::vector<Held> held;
     for (const avr_cycle_timer_slot_t* t = avr_->cycle_timers.timer; t != nullptr && t->when <= end; t = t->next) {
-        held.push_back({t->timer, t->param, t->when, deferrable(t->timer, t->param, loop) == Defer::kAtOwnCycle});
+        held.push_back({t->timer, t->param, t->when, deferrable(t->timer, t->param, t->when, loop) == Defer::kAtOwnCycle});
     }
     for (const Held& h : held) avr_cycle_timer_cancel(avr_, h.fn, h.param);
     return held;
@@ -296,7 +302,7 @@ bool FastForward::run_own_cycle_timers(const Loop& loop, std::vector<Held>& held
 bool FastForward::still_deferred(const Loop& loop, const std::vector<Held>& held, Cycles end) const {
     if (bound(loop) <= end) return false;
     return std::none_of(held.begin(), held.end(), [&](const Held& h) {
-        return !h.own_cycle && h.when != 0 && deferrable(h.fn, h.param, loop) == Defer::kNo;
+        return !h.own_cycle && h.when != 0 && deferrable(h.fn, h.param, h.when, loop) == Defer::kNo;
     });
 }
 
@@ -347,7 +353,7 @@ bool FastForward::try_jump(Loop& loop) {
     // Located: the change is within the shortest jump (the bisection stopped
     // on its own cap). If an event or the attempts cut it short, the passes
     // run on to the event, which may move the change, and the next try starts afresh.
-    const Cycles shortest = (kMinPassesPerJump + 2) * loop.info.pass_cycles + kVerifyMargin;
+    const Cycles shortest = shortest_jump(loop.info.pass_cycles);
     if (!differs_now && changes_by != kNoChangeSeen && changes_by - avr_->cycle <= 2 * shortest) {
         no_jump_before_ = changes_by;
         note_change(loop, changes_by);
@@ -407,7 +413,7 @@ Cycles FastForward::aim_before_change(Loop& loop) {
     const Cycles predicted = t.at + t.period;
     const Cycles opens = predicted - kWindowBeforePasses * pass;
     // Too close to the window for a jump (one pass skipped, one verified): wait there.
-    if (now + (kMinPassesPerJump + 2) * pass + kVerifyMargin >= opens) {
+    if (now + shortest_jump(pass) >= opens) {
         no_jump_before_ = predicted + after;
         return 0;
     }
@@ -462,7 +468,7 @@ void FastForward::note_change(Loop& loop, Cycles at) {
 FastForward::Jump FastForward::jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by) {
     const Cycles pass = loop.info.pass_cycles;
     const Cycles edge = std::min(bound(loop), cap);
-    if (edge <= now + (kMinPassesPerJump + 2) * pass + kVerifyMargin) return Jump::kTooShort;
+    if (edge <= now + shortest_jump(pass)) return Jump::kTooShort;
     const Cycles k = (edge - 1 - kVerifyMargin - now) / pass - 1;  // the verification pass ends before the edge
     const Cycles end = now + (k + 1) * pass;
     std::vector<Held> held = hold_timers(loop, end);

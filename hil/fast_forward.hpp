@@ -55,7 +55,8 @@
 
 #include "hil/cycle_time.hpp"
 #include "hil/loop_pass.hpp"
-#include "hil/pin_bit_use.hpp"
+#include "hil/io_bit_use.hpp"
+#include "hil/timer_event_reach.hpp"
 
 struct avr_t;
 
@@ -86,15 +87,19 @@ struct LoopSpan {
     [[nodiscard]] bool reads(uint16_t address) const {
         return std::binary_search(io_reads.begin(), io_reads.end(), address);
     }
-    /// Per PIN register a pass reads: the bits whose level can change what
-    /// it does (hil/pin_bit_use.hpp). A register read and not listed: all.
-    std::vector<PinBits> pin_bits;
+    std::vector<uint16_t> io_writes;  ///< the I/O data addresses a pass writes (sorted, unique)
+    [[nodiscard]] bool writes(uint16_t address) const {
+        return std::binary_search(io_writes.begin(), io_writes.end(), address);
+    }
+    /// Per PIN or TIFR register a pass reads: the bits whose value can change
+    /// what it does (hil/io_bit_use.hpp). A register read and not listed: all.
+    std::vector<IoBits> io_bits;
     /// True if the level of bit `bit` of the I/O register can change what a pass does.
     [[nodiscard]] bool reads_bit(uint16_t address, unsigned bit) const {
         if (!reads(address)) return false;
-        const auto it = std::find_if(pin_bits.begin(), pin_bits.end(),
-                                     [address](const PinBits& p) { return p.address == address; });
-        return it == pin_bits.end() || ((static_cast<unsigned>(it->used) >> bit) & 1U) != 0;
+        const auto it = std::find_if(io_bits.begin(), io_bits.end(),
+                                     [address](const IoBits& p) { return p.address == address; });
+        return it == io_bits.end() || ((static_cast<unsigned>(it->used) >> bit) & 1U) != 0;
     }
     /// True if a pass writes no SRAM byte below its own stack (no global,
     /// no heap): what a part reads of the firmware's globals is the same at
@@ -194,8 +199,8 @@ private:
     /// `bits`, if given, follows which PIN bits the pass uses.
     Record record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
                        const std::vector<RecordedStep>* follow, const bool& halt_a, const bool& halt_b,
-                       PinBitUse* bits = nullptr);
-    std::string accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const;
+                       IoBitUse* bits = nullptr);
+    std::string accept_io(const PassAnalysis& analysis) const;
     // I/O writes (fast_forward_write.cpp).
     enum class WriteClass { kPlain, kPort, kTimerControl, kTimerCompare, kOther };
     [[nodiscard]] WriteClass write_class(uint16_t address) const;
@@ -243,7 +248,8 @@ private:
     Cycles bound(const Loop& loop) const;
     /// How a pending cycle timer stands to a jump over the loop's passes.
     enum class Defer { kNo, kReplay, kAtOwnCycle };
-    Defer deferrable(CycleTimerFn fn, const void* param, const Loop& loop) const;
+    /// `when`: the cycle the timer is due at.
+    Defer deferrable(CycleTimerFn fn, const void* param, Cycles when, const Loop& loop) const;
     bool still_deferred(const Loop& loop, const std::vector<Held>& held, Cycles end) const;
     bool registered(CycleTimerFn fn, const void* param) const;
     void refuse(uint32_t anchor, uint16_t sp, std::string reason);
@@ -267,7 +273,11 @@ private:
     std::vector<Loop> loops_;
     std::vector<RefusedLoop> refused_;
     std::vector<void*> timers_;  ///< simavr's timer modules (their cycle timers' parameter)
+    std::vector<TimerEventReach> timer_reach_;  ///< per timer module, in timers_'s order
     std::vector<void*> ports_;   ///< simavr's I/O port modules (avr_ioport_t)
+    /// The I/O registers whose bits a pass's use is followed in (IoBitUse):
+    /// the PINx and the timers' TIFRn; their reads have no side effects.
+    std::vector<uint16_t> followed_registers_;
     /// PCs (pass_key) that a learned pass runs through more than once: no
     /// walk from there (which visit?), and no learning either.
     std::unordered_set<uint64_t> ambiguous_;

@@ -98,7 +98,7 @@ void FastForward::link(Loop&& loop) {
 // pass), stops as soon as this one leaves its path.
 FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<RecordedStep>& steps, Cycles& cycles,
                                              const std::vector<RecordedStep>* follow, const bool& halt_a,
-                                             const bool& halt_b, PinBitUse* bits) {
+                                             const bool& halt_b, IoBitUse* bits) {
     const Cycles start = avr_->cycle;
     const uint16_t sp = core_.stack_pointer();
     const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
@@ -136,9 +136,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
     Cycles c2 = 0;
     Record r = record_pass(anchor, first, c1, nullptr, halt_a, halt_b);
     const Snapshot between = snapshot();  // the state the second pass starts from
-    std::vector<uint16_t> pins;
-    for (const PortRegisters& p : mcu_.ports) pins.push_back(p.pin);
-    PinBitUse bits(std::move(pins), 0x20, mcu_.sram_start, mcu_.spl);
+    IoBitUse bits(followed_registers_, 0x20, mcu_.sram_start, mcu_.spl);
     if (r == Record::kPass) r = record_pass(anchor, second, c2, &first, halt_a, halt_b, &bits);
     avr_->run_cycle_limit = core_.free_run_limit();  // 1 if an interrupt entry switched a step watch on
     no_learning_before_ = avr_->cycle + kLearningBackoff;
@@ -162,7 +160,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
     const PassAnalysis analysis = analyse_pass(second, 0x20, mcu_.sram_start, mcu_.spl);
     Loop loop;
     std::string why = analysis.refusal;
-    if (why.empty()) why = accept_io(analysis, loop.timers_read);
+    if (why.empty()) why = accept_io(analysis);
     if (why.empty()) why = accept_writes(analysis);
     for (uint16_t a : analysis.carried) {
         if (!why.empty()) break;
@@ -185,7 +183,8 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
     loop.info.pc_low = loop.info.pc_high = anchor;
     loop.span.min_sp = loop.span.max_sp = loop.sp;
     loop.span.io_reads = analysis.io_reads;
-    loop.span.pin_bits = bits.finish();
+    loop.span.io_writes = analysis.io_writes;
+    loop.span.io_bits = bits.finish();
     for (const RecordedStep& s : second) {
         if (s.access.mem_write) {
             for (unsigned i = 0; i < s.access.count; ++i) {
@@ -269,22 +268,18 @@ bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
     return learn(avr_->pc, halt_a, halt_b, /*seek_period=*/false);
 }
 
-std::string FastForward::accept_io(const PassAnalysis& analysis, uint32_t& timers_read) const {
+std::string FastForward::accept_io(const PassAnalysis& analysis) const {
     for (uint16_t a : analysis.io_reads) {
         if (a == mcu_.spl || a == mcu_.sph) continue;
         if (read_observed(avr_, watchers_, a)) return fmt::format("reads {}, which a part watches", io_register_name(mcu_, a));
-        bool timer = false;
-        for (std::size_t n = 0; n < timers_.size(); ++n) {
-            const auto* t = static_cast<const avr_timer_t*>(timers_[n]);
-            if (a == t->r_tcnt || (t->r_tcnth != 0 && a == t->r_tcnth) || a == t->overflow.raised.reg) {
-                timers_read |= 1U << n;
-                timer = true;
-            }
-        }
+        // TCNTn: simavr's read computes the count from the clock, changing nothing.
+        const bool count = std::any_of(timers_.begin(), timers_.end(), [a](const void* m) {
+            const auto* t = static_cast<const avr_timer_t*>(m);
+            return a == t->r_tcnt || (t->r_tcnth != 0 && a == t->r_tcnth);
+        });
+        const bool followed = std::find(followed_registers_.begin(), followed_registers_.end(), a) != followed_registers_.end();
         const auto& io = avr_->io[AVR_DATA_TO_IO(a)];
-        const bool pin = std::any_of(mcu_.ports.begin(), mcu_.ports.end(),
-                                     [a](const PortRegisters& p) { return p.pin == a; });
-        if (!timer && !pin && io.r.c != nullptr) {
+        if (!count && !followed && io.r.c != nullptr) {
             return fmt::format("reads {}, a read with side effects in simavr", io_register_name(mcu_, a));
         }
     }

@@ -39,7 +39,6 @@ struct FastForward::Loop {
     std::vector<bool> checked_write;
     std::vector<uint16_t> carried;
     uint8_t carried_flags = 0;  ///< SREG bits read before written, and written
-    uint32_t timers_read = 0;  ///< bit n: the pass reads timers_[n]'s TCNT or flags
     LoopSpan span;
     /// When its path changes; shared by the anchors of one cycle of PCs.
     std::shared_ptr<ChangeTrack> changes;

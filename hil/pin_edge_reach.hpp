@@ -23,7 +23,7 @@
 // leaves the same state, provided the passes read neither the pin nor a
 // flag or capture register it sets, and it requests no interrupt. A pass
 // that reads the PIN register but uses other bits of it only (digitalRead()
-// of another pin of the port: hil/pin_bit_use.hpp) does not read the pin.
+// of another pin of the port: hil/io_bit_use.hpp) does not read the pin.
 //
 // Reads the registers when asked; holds simavr's timer modules (owned by
 // the avr_t, which outlives the parts).

@@ -55,6 +55,11 @@
  *     (the input register's address and the pin's mask from flash tables,
  *     the register loaded whole and masked), 50 ms through SBIS; then the
  *     same read_pin() of PD2 counts 20 of encoder 1's edges.
+ *   FF_OC_PWM: PWM on OC0A/OC0B (Timer0, D6/D5) and OC1A/OC1B (Timer1 in
+ *     mode 14 at 20 kHz, D9/D10), no compare interrupts: a 50 ms wait that
+ *     reads none of the pins; a 10 ms wait on PB0 (reading PINB);
+ *     10 ms with PCINT1 (PB1) enabled, an ISR counting; 10 ms with OC1A
+ *     toggling on compare match (simavr writes PORTB then).
  * Each prints one line per event, with us() at it, then "done". */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -327,8 +332,46 @@ static void run(void) {
     }
     event("edges", 20);
 }
+#elif defined(FF_OC_PWM)
+static volatile uint16_t oc_changes;
+ISR(PCINT0_vect) { ++oc_changes; }
+static void run(void) {
+    /* OC0A (D6) and OC0B (D5): Timer0's fast PWM, non-inverting. */
+    OCR0A = 64;
+    OCR0B = 192;
+    DDRD |= _BV(PD5) | _BV(PD6);
+    TCCR0A |= _BV(COM0A1) | _BV(COM0B1);
+    /* OC1A (D9) and OC1B (D10): Timer1 in mode 14 (fast PWM, TOP = ICR1),
+     * clk/1: 20 kHz, a change every 400 cycles on average. */
+    ICR1 = 799;
+    OCR1A = 300;
+    OCR1B = 500;
+    DDRB |= _BV(PB1) | _BV(PB2);
+    TCCR1A = _BV(COM1A1) | _BV(COM1B1) | _BV(WGM11);
+    TCCR1B = _BV(WGM13) | _BV(WGM12) | _BV(CS10);
+    wait_us(50000U);
+    event("pwm", TCNT1);
+    /* A wait on PB0 (a pull-up): each read of PINB stores PORTB's bits into
+     * its output bits (simavr 1.6), over OC1A's and OC1B's levels, which
+     * therefore bound the jumps. */
+    PORTB |= _BV(PB0);
+    const uint32_t start = us();
+    while (bit_is_set(PINB, PB0) && us() - start < 10000U) {
+    }
+    event("pinb", PINB);
+    /* PCINT1 on OC1A's pin: each change requests PCINT0. */
+    PCMSK0 = _BV(PCINT1);
+    PCICR = _BV(PCIE0);
+    wait_us(10000U);
+    PCICR = 0;
+    event("pcint", oc_changes);
+    /* Toggle on compare match (COM1A = 1): simavr writes PORTB. */
+    TCCR1A = _BV(COM1A0) | _BV(COM1B1) | _BV(WGM11);
+    wait_us(10000U);
+    event("toggle", PORTB);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES, FF_MASKED_PIN"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES, FF_MASKED_PIN, FF_OC_PWM"
 #endif
 
 int main(void) {

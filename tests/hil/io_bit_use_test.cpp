@@ -1,8 +1,8 @@
-// PinBitUse: which bits of a PIN register a pass uses, on hand-encoded
+// IoBitUse: which bits of a PIN register a pass uses, on hand-encoded
 // instructions (AVR Instruction Set Manual, DS40002198A; each word checked
 // against avr-as). The CPU state is set by hand before each instruction,
 // as the instruction before it would have left it.
-#include "hil/pin_bit_use.hpp"
+#include "hil/io_bit_use.hpp"
 
 #include <gtest/gtest.h>
 
@@ -32,7 +32,7 @@ constexpr uint16_t kTstR24 = 0x2388;      // AND r24, r24
 
 struct Pass {
     std::array<uint8_t, 0x900> data{};
-    PinBitUse use{{kPinb, kPind}, 0x20, 0x100, 0x5D};
+    IoBitUse use{{kPinb, kPind}, 0x20, 0x100, 0x5D};
     void step(uint16_t w0, uint16_t w1 = 0) {
         CpuView v;
         v.data = data.data();
@@ -57,19 +57,19 @@ struct Pass {
 
 /// The one PIN register the pass read (PIND here), with its used bits.
 uint8_t used_of_pind(Pass& p) {
-    const std::vector<PinBits> u = p.use.finish();
+    const std::vector<IoBits> u = p.use.finish();
     EXPECT_EQ(u.size(), 1U);
     EXPECT_TRUE(u.empty() || u[0].address == kPind);
     return u.empty() ? 0 : u[0].used;
 }
 
-TEST(PinBitUse, DigitalReadUsesTheMaskedBitOnly) {
+TEST(IoBitUse, DigitalReadUsesTheMaskedBitOnly) {
     Pass p;
     p.digital_read(0x80);
     EXPECT_EQ(used_of_pind(p), 0x80);
 }
 
-TEST(PinBitUse, AMaskThatMayDifferFromPassToPassUsesEveryBit) {
+TEST(IoBitUse, AMaskThatMayDifferFromPassToPassUsesEveryBit) {
     // The mask read from TCNT0: another pass may keep other bits.
     Pass p;
     p.step(kInR29Tcnt0);
@@ -80,13 +80,13 @@ TEST(PinBitUse, AMaskThatMayDifferFromPassToPassUsesEveryBit) {
     EXPECT_EQ(used_of_pind(p), 0xFF);
 }
 
-TEST(PinBitUse, SkipOnAnIoBitUsesThatBit) {
+TEST(IoBitUse, SkipOnAnIoBitUsesThatBit) {
     Pass p;
     p.step(kSbisPind7);
     EXPECT_EQ(used_of_pind(p), 0x80);
 }
 
-TEST(PinBitUse, AStoredReadUsesEveryBit) {
+TEST(IoBitUse, AStoredReadUsesEveryBit) {
     Pass p;
     p.step(kInR24Pind);
     p.step(kStsR24, 0x0100);
@@ -94,14 +94,14 @@ TEST(PinBitUse, AStoredReadUsesEveryBit) {
     EXPECT_EQ(used_of_pind(p), 0xFF);
 }
 
-TEST(PinBitUse, BitsStillHeldWhenThePassEndsAreUsed) {
+TEST(IoBitUse, BitsStillHeldWhenThePassEndsAreUsed) {
     Pass p;
     p.step(kInR24Pind);
     p.step(kAndiR24x0C);
     EXPECT_EQ(used_of_pind(p), 0x0C);
 }
 
-TEST(PinBitUse, ACopyTestedForOneBitUsesThatBit) {
+TEST(IoBitUse, ACopyTestedForOneBitUsesThatBit) {
     Pass p;
     p.step(kInR24Pind);
     p.step(kMovR18R24);
@@ -111,7 +111,7 @@ TEST(PinBitUse, ACopyTestedForOneBitUsesThatBit) {
     EXPECT_EQ(used_of_pind(p), 0x08);
 }
 
-TEST(PinBitUse, FlagsOfAMaskedValueCarryItsBits) {
+TEST(IoBitUse, FlagsOfAMaskedValueCarryItsBits) {
     // TST of the masked value, then a branch on Z: the masked bits are used.
     Pass p;
     p.step(kInR24Pind);
@@ -127,7 +127,7 @@ TEST(PinBitUse, FlagsOfAMaskedValueCarryItsBits) {
     EXPECT_EQ(used_of_pind(q), 0);
 }
 
-TEST(PinBitUse, OtherIoReadsAreNotFollowed) {
+TEST(IoBitUse, OtherIoReadsAreNotFollowed) {
     Pass p;
     p.step(kInR29Tcnt0);
     p.step(kLdiR24Zero);

@@ -1,4 +1,4 @@
-#include "hil/pin_bit_use.hpp"
+#include "hil/io_bit_use.hpp"
 
 #include <algorithm>
 #include <utility>
@@ -23,15 +23,15 @@ bool loads_register(uint16_t w0) {
 
 }  // namespace
 
-PinBitUse::PinBitUse(std::vector<uint16_t> pins, uint16_t io_begin, uint16_t io_end, uint16_t spl)
-    : pins_(std::move(pins)), io_begin_(io_begin), io_end_(io_end), spl_(spl) {}
+IoBitUse::IoBitUse(std::vector<uint16_t> registers, uint16_t io_begin, uint16_t io_end, uint16_t spl)
+    : registers_(std::move(registers)), io_begin_(io_begin), io_end_(io_end), spl_(spl) {}
 
-bool PinBitUse::tracked(uint16_t address) const {
-    return std::find(pins_.begin(), pins_.end(), address) != pins_.end();
+bool IoBitUse::tracked(uint16_t address) const {
+    return std::find(registers_.begin(), registers_.end(), address) != registers_.end();
 }
 
-void PinBitUse::use(uint16_t address, uint8_t bits) {
-    const auto it = std::find_if(used_.begin(), used_.end(), [address](const PinBits& p) { return p.address == address; });
+void IoBitUse::use(uint16_t address, uint8_t bits) {
+    const auto it = std::find_if(used_.begin(), used_.end(), [address](const IoBits& p) { return p.address == address; });
     if (it == used_.end()) {
         used_.push_back({address, bits});
     } else {
@@ -39,12 +39,12 @@ void PinBitUse::use(uint16_t address, uint8_t bits) {
     }
 }
 
-void PinBitUse::use(const Taint& t) {
+void IoBitUse::use(const Taint& t) {
     if (t.bits != 0) use(t.source, t.bits);
 }
 
 // What an instruction the analysis does not follow reads of the taint is used.
-void PinBitUse::use_operands(const StepAccess& a) {
+void IoBitUse::use_operands(const StepAccess& a) {
     for (unsigned r = 0; r < 32; ++r) {
         if ((a.reg_reads >> r) & 1U) use(reg_[r]);
     }
@@ -53,7 +53,7 @@ void PinBitUse::use_operands(const StepAccess& a) {
     }
 }
 
-void PinBitUse::clear_results(const StepAccess& a) {
+void IoBitUse::clear_results(const StepAccess& a) {
     for (unsigned r = 0; r < 32; ++r) {
         if ((a.reg_writes >> r) & 1U) reg_[r] = {};
     }
@@ -64,7 +64,7 @@ void PinBitUse::clear_results(const StepAccess& a) {
 
 // AND Rd, other, with Rd tainted and `other` not (or ANDI: a constant).
 // A mask that may differ in another pass says nothing of that pass.
-void PinBitUse::and_with(unsigned d, const Taint& other, uint8_t other_value, bool other_varies) {
+void IoBitUse::and_with(unsigned d, const Taint& other, uint8_t other_value, bool other_varies) {
     Taint result;
     if (other.bits != 0 || other_varies) {
         use(reg_[d]);
@@ -78,7 +78,7 @@ void PinBitUse::and_with(unsigned d, const Taint& other, uint8_t other_value, bo
 }
 
 // The instructions that keep taint in place; false for any other.
-bool PinBitUse::special(uint16_t w0, const StepAccess& a, const CpuView& cpu) {
+bool IoBitUse::special(uint16_t w0, const StepAccess& a, const CpuView& cpu) {
     const unsigned d = (w0 >> 4) & 0x1FU;
     if (a.mem_read && a.count == 1 && tracked(a.address[0]) && loads_register(w0)) {
         use_operands(a);  // a pointer register
@@ -134,7 +134,7 @@ bool PinBitUse::special(uint16_t w0, const StepAccess& a, const CpuView& cpu) {
     return false;
 }
 
-void PinBitUse::note_varying(const StepAccess& a) {
+void IoBitUse::note_varying(const StepAccess& a) {
     bool varies = (a.reg_reads & reg_varies_) != 0 || (a.flag_reads & flag_varies_) != 0;
     for (unsigned i = 0; i < a.count && a.mem_read; ++i) {
         const uint16_t address = a.address[i];
@@ -152,7 +152,7 @@ void PinBitUse::note_varying(const StepAccess& a) {
     }
 }
 
-void PinBitUse::step(uint16_t w0, const StepAccess& a, const CpuView& cpu) {
+void IoBitUse::step(uint16_t w0, const StepAccess& a, const CpuView& cpu) {
     if (!special(w0, a, cpu)) {
         use_operands(a);
         clear_results(a);
@@ -163,7 +163,7 @@ void PinBitUse::step(uint16_t w0, const StepAccess& a, const CpuView& cpu) {
     note_varying(a);
 }
 
-std::vector<PinBits> PinBitUse::finish() {
+std::vector<IoBits> IoBitUse::finish() {
     for (Taint& t : reg_) use(std::exchange(t, {}));
     for (Taint& t : flag_) use(std::exchange(t, {}));
     return std::move(used_);
