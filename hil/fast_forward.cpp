@@ -53,6 +53,9 @@ constexpr int kMaxHops = 3;
 /// Jumps tried in a row at one anchor (bisection toward a change of path,
 /// retries up to an event a part's step scheduled).
 constexpr int kMaxJumpAttempts = 12;
+/// Instructions stepped at most from a batch end on a PC a learned pass
+/// runs through more than once (after_batch).
+constexpr int kMaxUndecidedSteps = 16;
 
 /// The room a jump over passes of `pass` cycles needs before its bound:
 /// kMinPassesPerJump passes skipped, the verification pass, the pass that
@@ -97,8 +100,29 @@ CpuView FastForward::cpu() const {
     return v;
 }
 
+// A batch end on a learned pass, at a PC the pass runs through more than
+// once and where nothing else is anchored (which visit?), steps on to a PC
+// that tells: batches of a period that is a multiple of the pass (256
+// cycles, four passes of delay(), between the looks of a profiled run)
+// would otherwise end there every time.
 bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
-    if (avr_->state != cpu_Running || halt_a || halt_b) return false;  // the run stops here
+    bool ran = false;
+    for (int i = 0; i < kMaxUndecidedSteps; ++i) {
+        if (avr_->state != cpu_Running || halt_a || halt_b) return ran;  // the run stops here
+        const uint64_t key = pass_key(avr_->pc, core_.stack_pointer());
+        const bool undecided = ambiguous_.count(key) != 0 && on_pass_.count(key) == 0 &&
+                               loop_for(avr_->pc, core_.stack_pointer()) == kUnknown;
+        if (!undecided) return look(halt_a, halt_b) || ran;
+        avr_->run_cycle_limit = 1;
+        const bool on = step_one();
+        avr_->run_cycle_limit = core_.free_run_limit();
+        ran = true;
+        if (!on) return true;
+    }
+    return ran;
+}
+
+bool FastForward::look(const bool& halt_a, const bool& halt_b) {
     const uint32_t pc = avr_->pc;
     if ((pc >> 1) >= state_.size()) return false;
     const uint16_t sp = core_.stack_pointer();
@@ -133,7 +157,8 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
 FastForward::Entered FastForward::enter_learned_pass(const bool& halt_a, const bool& halt_b) {
     if (avr_->cycle < no_jump_before_) return Entered::kNo;
     // Inside a learned pass, not at its anchor (with the SP the pass has
-    // there): on to the anchor, and jump there. Off it, the run may be on
+    // there): on to the first anchor on the way (its own, or another
+    // loop's through the same code), and jump there. Off it, the run may be on
     // another loop's pass or anchor through the same code (a line sensor
     // changed the path): on to that one, a few times at most.
     bool ran = false;
@@ -142,22 +167,26 @@ FastForward::Entered FastForward::enter_learned_pass(const bool& halt_a, const b
         if (on == on_pass_.end()) break;
         Loop& loop = loops_[static_cast<std::size_t>(on->second)];
         if (!ran && !jump_may_follow(loop)) return Entered::kWaiting;
-        const Walk walk = walk_to_anchor(loop, halt_a, halt_b);
+        const Walk walk = walk_to_anchor(loop, halt_a, halt_b, /*any_anchor=*/true);
         if (walk == Walk::kNotOnPath) break;
         ran = true;
-        if (walk == Walk::kArrived) {
-            (void)try_jump(loop);
-            return Entered::kRan;
-        }
+        if (walk == Walk::kArrived || walk == Walk::kAtAnchor) break;
         // A watchdog reset (simavr swapped its run callback) or a stop is the core's to take.
         if (avr_->state != cpu_Running || halt_a || halt_b || core_.event_pending() || core_.stop_requested()) {
             return Entered::kRan;
         }
     }
     if (!ran) return Entered::kNo;
-    const int32_t at = loop_for(avr_->pc, core_.stack_pointer());
-    if (at >= 0 && loops_[static_cast<std::size_t>(at)].refusal == kUnknown) (void)try_jump(loops_[static_cast<std::size_t>(at)]);
+    if (Loop* here = loop_here()) (void)try_jump(*here);
     return Entered::kRan;
+}
+
+FastForward::Loop* FastForward::loop_here() {
+    if ((avr_->pc >> 1) >= state_.size()) return nullptr;
+    const int32_t at = loop_for(avr_->pc, core_.stack_pointer());
+    if (at < 0) return nullptr;
+    Loop& loop = loops_[static_cast<std::size_t>(at)];
+    return loop.refusal == kUnknown ? &loop : nullptr;
 }
 
 // The anchor is at most one pass away; a jump from there needs room for

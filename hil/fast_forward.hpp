@@ -190,6 +190,8 @@ private:
     struct ChangeTrack;
     struct Snapshot;
     enum : int32_t { kUnknown = -1 };
+    /// after_batch at a PC that tells which loop and visit it is.
+    bool look(const bool& halt_a, const bool& halt_b);
     bool learn(uint32_t anchor, const bool& halt_a, const bool& halt_b, bool seek_period = true);
     bool learn_period(const bool& halt_a, const bool& halt_b);
     /// How a recorded pass ended (kWrites: it was about to make an I/O write
@@ -224,8 +226,12 @@ private:
     [[nodiscard]] bool jump_may_follow(const Loop& loop) const;
     /// True if walk_to_anchor steps the loop's pass instruction by instruction.
     [[nodiscard]] bool walks_by_step(const Loop& loop) const;
-    enum class Walk { kNotOnPath, kLeft, kArrived };
-    Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b);
+    /// kAtAnchor: at another loop's anchor, from which it may jump.
+    enum class Walk { kNotOnPath, kLeft, kArrived, kAtAnchor };
+    Walk walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b, bool any_anchor = false);
+    /// The loop anchored at the PC with the SP, if one is and it is not refused (else nullptr).
+    [[nodiscard]] Loop* loop_here();
+    [[nodiscard]] bool may_jump_here() { return loop_here() != nullptr; }
     Walk run_to_anchor(const Loop& loop, std::size_t i, const bool& halt_a, const bool& halt_b);
     enum class Jump { kTooShort, kMismatch, kTakenBack, kStopDeferred, kSkipped };
     Jump jump_once(Loop& loop, Cycles now, Cycles cap, Cycles& changes_by);

@@ -49,7 +49,8 @@ bool FastForward::walks_by_step(const Loop& loop) const {
     return core_.has_instruction_hooks() || loop.info.pass_cycles >= kSamplePeriod;
 }
 
-FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b) {
+FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt_a, const bool& halt_b,
+                                              bool any_anchor) {
     const uint16_t sp = core_.stack_pointer();
     std::size_t i = 0;
     while (i < loop.pcs.size() && (loop.pcs[i] != avr_->pc || loop.sps[i] != sp)) ++i;
@@ -61,9 +62,16 @@ FastForward::Walk FastForward::walk_to_anchor(const Loop& loop, const bool& halt
     // run on past that point (measured: 5 % faster on case 1, 5 % slower on
     // line_follower_digital with batches for all).
     if (!walks_by_step(loop)) return run_to_anchor(loop, i, halt_a, halt_b);
+    // With `any_anchor`, the walk ends at the first PC on the way where a
+    // loop that may jump is anchored with this SP (a long pass has dozens:
+    // each PC a batch ended at was learned as one).
     avr_->run_cycle_limit = 1;
     for (; i < loop.pcs.size(); ++i) {
         if (avr_->pc != loop.pcs[i] || !step_one() || halt_a || halt_b) break;
+        if (any_anchor && i + 1 < loop.pcs.size() && may_jump_here()) {
+            avr_->run_cycle_limit = core_.free_run_limit();
+            return Walk::kAtAnchor;
+        }
     }
     avr_->run_cycle_limit = core_.free_run_limit();
     const bool arrived = i == loop.pcs.size() && avr_->state == cpu_Running && !halt_a && !halt_b &&
