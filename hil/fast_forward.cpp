@@ -62,6 +62,16 @@ constexpr int kMaxUndecidedSteps = 16;
 /// rounding down to whole passes may lose (jump_once), and the margin.
 constexpr Cycles shortest_jump(Cycles pass) { return (kMinPassesPerJump + 2) * pass + kVerifyMargin; }
 
+/// True if a timer counts the edges on its Tn pin (CSn2:0 = 6 or 7; simavr
+/// 1.6 hooks avr_timer_irq_ext_clock on the pin's IRQ): an edge a part puts
+/// there, or an OC output changing it, moves the count at the edge's own
+/// time, which a replay after a jump would not. Then nothing is replayed.
+bool a_timer_counts_pin_edges(const std::vector<void*>& timers) {
+    return std::any_of(timers.begin(), timers.end(), [](const void* m) {
+        return (static_cast<const avr_timer_t*>(m)->ext_clock_flags & AVR_TIMER_EXTCLK_FLAG_TN) != 0;
+    });
+}
+
 }  // namespace
 
 using ff_detail::flags_equal;
@@ -117,7 +127,8 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
         const bool on = step_one();
         avr_->run_cycle_limit = core_.free_run_limit();
         ran = true;
-        if (!on) return true;
+        // An interrupt entered: the core's to follow (a step watch it switches on).
+        if (!on || avr_->pc < static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes)) return true;
     }
     return ran;
 }
@@ -202,6 +213,7 @@ bool FastForward::jump_may_follow(const Loop& loop) const {
 }
 
 FastForward::Defer FastForward::deferrable(CycleTimerFn fn, const void* param, Cycles when, const Loop& loop) const {
+    if (a_timer_counts_pin_edges(timers_)) return Defer::kNo;
     for (const ReplayableTimer& r : replayable_) {
         if (r.fn != fn || r.param != param) continue;
         if (!r.may_replay(loop.span)) return Defer::kNo;

@@ -41,18 +41,24 @@ bool PinEdgeReach::replayable(const avr_t* avr, const LoopSpan& span, bool level
     const uint8_t* data = avr->data;
     if (span.reads_bit(pin_register_, bit_)) return false;
     if (ext_int_ >= 0) {
+        // A mask or sense bit a pass sets and clears again (plain registers
+        // in simavr) would change what an edge inside it does.
+        if (span.writes(eimsk_) || span.writes(eicr_)) return false;
         if (bit_set(data[eimsk_], ext_int_) || span.reads(eifr_)) return false;
         const unsigned sense = (data[eicr_] >> isc_shift_) & 3U;
         // Low-level mode: a low sets INTFn only with the I flag set (see the header).
         if (sense == 0 && !level && !bit_set(data[eifr_], ext_int_)) return false;
     }
+    if (pcint_group_ >= 0 && (span.writes(pcmsk_) || span.writes(pcicr_))) return false;
     if (pcint_group_ >= 0 && bit_set(data[pcmsk_], pcint_bit_)) {
         if (bit_set(data[pcicr_], pcint_group_) || span.reads(pcifr_)) return false;
     }
     for (const Capture& c : captures_) {
         const auto* t = static_cast<const avr_timer_t*>(c.timer);
         const avr_regbit_t& enable = t->icr.enable;
-        if (enable.reg != 0 && ((data[enable.reg] >> enable.bit) & enable.mask) != 0) return false;
+        if (enable.reg != 0 && (span.writes(enable.reg) || ((data[enable.reg] >> enable.bit) & enable.mask) != 0)) {
+            return false;
+        }
         if (span.reads(t->icr.raised.reg) || span.reads(t->r_icr) || (t->r_icrh != 0 && span.reads(t->r_icrh))) {
             return false;
         }

@@ -60,6 +60,8 @@
  *     reads none of the pins; a 10 ms wait on PB0 (reading PINB);
  *     10 ms with PCINT1 (PB1) enabled, an ISR counting; 10 ms with OC1A
  *     toggling on compare match (simavr writes PORTB then).
+ *   FF_T1_CLOCK: Timer1 counts the falling edges of OC0B's PWM on D5 (its
+ *     T1 pin); a loop polls TCNT1 up to 40.
  * Each prints one line per event, with us() at it, then "done". */
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -370,8 +372,22 @@ static void run(void) {
     wait_us(10000U);
     event("toggle", PORTB);
 }
+#elif defined(FF_T1_CLOCK)
+static void run(void) {
+    /* OC0B (D5, T1) drives Timer1's clock: Timer1 counts its falling edges
+     * (CS12:0 = 6), at Timer0's compare match B (the rising ones come at
+     * its overflow, whose interrupt bounds every jump anyway). */
+    OCR0B = 192;
+    DDRD |= _BV(PD5);
+    TCCR0A |= _BV(COM0B1);
+    TCCR1A = 0;
+    TCCR1B = _BV(CS12) | _BV(CS11);
+    while (TCNT1 < 40U) {
+    }
+    event("t1", TCNT1);
+}
 #else
-#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES, FF_MASKED_PIN, FF_OC_PWM"
+#error "define one of FF_SRAM_COUNTER, FF_ISR_FLAG, FF_PIN_POLL, FF_UDR_POLL, FF_WATCHDOG, FF_LATE_ENABLE, FF_TCNT2_POLL, FF_PORT_WRITES, FF_DELAY_MS, FF_UNREAD_EDGES, FF_MASKED_PIN, FF_OC_PWM, FF_T1_CLOCK"
 #endif
 
 int main(void) {

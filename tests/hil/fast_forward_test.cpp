@@ -268,6 +268,17 @@ TEST(FastForward, JumpsPastTheEdgesOfPwmOutputsALoopDoesNotRead) {
     EXPECT_EQ(sent.find("pcint 0 "), std::string::npos) << sent;  // the ISR counted changes
 }
 
+TEST(FastForward, LeavesEdgesOnATimersClockPinWhereTheyFall) {
+    // FF_T1_CLOCK: Timer1 counts the falling edges of OC0B's PWM on its T1
+    // pin while a loop polls TCNT1: an edge replayed after a jump would
+    // count late (without the rule the states part at 700,000 cycles). The
+    // same state both ways at every stop, and the poll ends.
+    const FastForwardStats s = expect_identical_states("ff_t1_clock", every(49'999, 1'000'000));
+    EXPECT_GT(s.cycles_skipped, 0U);  // the poll itself is skipped up to each edge
+    const std::string sent = sent_by("ff_t1_clock", 1'000'000);
+    EXPECT_NE(sent.find("t1 40 "), std::string::npos) << sent;
+}
+
 TEST(FastForward, PollsTheCountOfAPhaseCorrectTimerExactly) {
     // FF_TCNT2_POLL: `while (TCNT2 < high) {}` and `while (TCNT2 > low) {}`
     // on Timer2 counting 0..TOP..0 (PhaseCorrectTimer), with TOP 0xFF, then
