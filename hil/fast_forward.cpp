@@ -128,7 +128,7 @@ bool FastForward::after_batch(const bool& halt_a, const bool& halt_b) {
         avr_->run_cycle_limit = core_.free_run_limit();
         ran = true;
         // An interrupt entered: the core's to follow (a step watch it switches on).
-        if (!on || avr_->pc < static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes)) return true;
+        if (!on || avr_->pc < ff_detail::vector_table_end(mcu_)) return true;
     }
     return ran;
 }

@@ -101,7 +101,7 @@ FastForward::Record FastForward::record_pass(uint32_t anchor, std::vector<Record
                                              const bool& halt_b, IoBitUse* bits) {
     const Cycles start = avr_->cycle;
     const uint16_t sp = core_.stack_pointer();
-    const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
+    const uint32_t vectors_end = ff_detail::vector_table_end(mcu_);
     steps.clear();
     while (steps.size() < kMaxPassSteps) {
         const uint32_t pc = avr_->pc;
@@ -222,7 +222,7 @@ bool FastForward::learn(uint32_t anchor, const bool& halt_a, const bool& halt_b,
 // the rest of the record, then steps on to the first PC (with its SP) that
 // one period runs through once, and learns that PC as the loop's anchor.
 bool FastForward::learn_period(const bool& halt_a, const bool& halt_b) {
-    const auto vectors_end = static_cast<uint32_t>(mcu_.vector_count() * mcu_.vector_bytes);
+    const uint32_t vectors_end = ff_detail::vector_table_end(mcu_);
     std::vector<uint64_t> keys;
     std::vector<Cycles> lengths;
     keys.reserve(kMaxPeriodSteps);

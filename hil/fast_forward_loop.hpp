@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hil/fast_forward.hpp"
+#include "hil/mcu.hpp"
 
 namespace ddmr::hil::ff_detail {
 
@@ -17,6 +18,11 @@ inline bool flags_equal(uint8_t mask, const uint8_t* a, const uint8_t* b) {
         if (((mask >> f) & 1U) != 0 && (a[f] != 0) != (b[f] != 0)) return false;
     }
     return true;
+}
+
+/// The first flash byte after the interrupt vectors: a PC below it is an interrupt's entry.
+inline uint32_t vector_table_end(const McuDescription& mcu) {
+    return static_cast<uint32_t>(mcu.vector_count() * mcu.vector_bytes);
 }
 
 }  // namespace ddmr::hil::ff_detail
